@@ -1,0 +1,377 @@
+/**
+ * \file edmi.h
+ * \brief edmi: energy-decaying, momentum-conserving integrators for particle dynamics.
+ *
+ * Freestanding C99, no allocation, no stdio, no libm beyond a square root the platform
+ * supplies. Implements the five one-step schemes of J. Liu, "On the design of
+ * energy-decaying momentum-conserving integrator for nonlinear dynamics using energy
+ * splitting and perturbation techniques": implicit mid-point (MP), LaBudde-Greenspan (LG),
+ * generalized Eyre (GE), perturbed mid-point (PM) and perturbed trapezoidal (PT), for bodies
+ * coupled by pair potentials V(d) and bodies tied to fixed anchors.
+ *
+ * Version 0.1.0. Licence: MIT (see README.md).
+ */
+#ifndef EDMI_H
+#define EDMI_H
+
+#define EDMI_VERSION_MAJOR 0
+#define EDMI_VERSION_MINOR 1
+#define EDMI_VERSION_PATCH 0
+/** Packed version: 0xMMmmpp. */
+#define EDMI_VERSION ((EDMI_VERSION_MAJOR << 16) | (EDMI_VERSION_MINOR << 8) | EDMI_VERSION_PATCH)
+
+/* ------------------------------------------------------------------------------------------
+ * Configuration. Every option can be set with -D or in a file named by EDMI_USER_CONFIG.
+ * ---------------------------------------------------------------------------------------- */
+#ifdef EDMI_USER_CONFIG
+#include EDMI_USER_CONFIG
+#endif
+
+/** Floating-point type: float or double. Changes the ABI (see edmi_is_double_precision()). */
+#ifndef EDMI_REAL
+#define EDMI_REAL double
+#endif
+
+/** Bodies per system. Costs 7 reals per body in edmi_system and
+ *  9*EDMI_MAX_BODIES^2 + 16*EDMI_MAX_BODIES reals (+ 3*EDMI_MAX_BODIES ints) in edmi_workspace:
+ *  the Newton matrix is stored dense, but only its band is touched (see README, "solver"). */
+#ifndef EDMI_MAX_BODIES
+#define EDMI_MAX_BODIES 16
+#endif
+
+/** Links (pair or anchor) per system. Costs one edmi_link in edmi_system and 8 reals in
+ *  edmi_workspace per link. */
+#ifndef EDMI_MAX_LINKS
+#define EDMI_MAX_LINKS 64
+#endif
+
+/** The port hook: square root of a non-negative edmi_real. The default is the compiler
+ *  builtin, which with -fno-math-errno is one instruction (VSQRT.F32 on Cortex-M4F, VSQRT.F64
+ *  on M7, SQRTSD on x86-64); on a core without an FPU it becomes a call to sqrtf/sqrt that
+ *  the C library or port/ supplies. */
+#ifndef EDMI_SQRT
+#if defined(__GNUC__) || defined(__clang__)
+#define EDMI_SQRT(x) EDMI_SQRT_BUILTIN_(x)
+#else
+#error "edmi: define EDMI_SQRT(x) for this compiler (see README, porting)"
+#endif
+#endif
+
+#include <float.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------------------------------
+ * Types
+ * ---------------------------------------------------------------------------------------- */
+
+/** The library's real type. */
+typedef EDMI_REAL edmi_real;
+
+/* Literal, epsilon and builtin sqrt in the configured precision, so that a float build
+ * contains no double arithmetic. EDMI_R(1.5) is 1.5f in a float build. */
+#define EDMI_FLOAT_ 1
+#define EDMI_DOUBLE_ 2
+#define EDMI_PREC_float EDMI_FLOAT_
+#define EDMI_PREC_double EDMI_DOUBLE_
+#define EDMI_PREC_X_(t) EDMI_PREC_##t
+#define EDMI_PREC_(t) EDMI_PREC_X_(t)
+#if EDMI_PREC_(EDMI_REAL) == EDMI_FLOAT_
+#define EDMI_R(x) x##f
+#define EDMI_EPS FLT_EPSILON
+#define EDMI_REAL_MAX FLT_MAX
+#define EDMI_SQRT_BUILTIN_(x) __builtin_sqrtf(x)
+#elif EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+#define EDMI_R(x) x
+#define EDMI_EPS DBL_EPSILON
+#define EDMI_REAL_MAX DBL_MAX
+#define EDMI_SQRT_BUILTIN_(x) __builtin_sqrt(x)
+#else
+#error "edmi: EDMI_REAL must be float or double"
+#endif
+
+/** Status of every call that can fail. A call that returns anything but EDMI_OK has left the
+ *  system (and every output except the step result) bit-identical to before the call. */
+typedef enum edmi_status {
+    EDMI_OK = 0,
+    EDMI_ERR_NULL,           /*!< a required pointer is NULL */
+    EDMI_ERR_DT,             /*!< dt <= 0 or not finite */
+    EDMI_ERR_MASS,           /*!< a mass <= 0 or not finite */
+    EDMI_ERR_NONFINITE,      /*!< a position, momentum, anchor or parameter is not finite */
+    EDMI_ERR_CAPACITY,       /*!< EDMI_MAX_BODIES or EDMI_MAX_LINKS would be exceeded */
+    EDMI_ERR_INDEX,          /*!< a body index is out of range, or a link ties a body to itself */
+    EDMI_ERR_PARAM,          /*!< an invalid potential parameter, scheme, option or tolerance */
+    EDMI_ERR_COINCIDENT,     /*!< two linked bodies (or a body and its anchor) at distance 0 */
+    EDMI_ERR_SINGULAR,       /*!< the Newton matrix is singular to working precision */
+    EDMI_ERR_NO_CONVERGENCE, /*!< Newton did not meet tol_R/tol_A within l_max iterations */
+    EDMI_ERR_DIVERGED        /*!< a Newton iterate became non-finite or made a distance 0 */
+} edmi_status;
+
+/** The five algorithmic forces of the paper (section 4.1). */
+typedef enum edmi_scheme {
+    EDMI_MP = 0, /*!< implicit mid-point, f_mp: V' at the distance between the mid-points */
+    EDMI_LG,     /*!< LaBudde-Greenspan, f_lg: energy-conserving */
+    EDMI_GE,     /*!< generalized Eyre, f_ge: convex/concave split, 1st order, energy-decaying */
+    EDMI_PM,     /*!< perturbed mid-point, f_pm: super-convex/concave, 2nd order, decaying */
+    EDMI_PT      /*!< perturbed trapezoidal, f_pt: super-convex/concave, 2nd order, decaying */
+} edmi_scheme;
+
+/** How LG evaluates its difference quotient [V(d1)-V(d0)]/(d1-d0). */
+typedef enum edmi_lg_form {
+    /** Closed-form divided difference (never divides by d1-d0; the paper's eq. solar_flg_2
+     *  generalised to every built-in potential): no switch, energy conserved to round-off.
+     *  Default. A user potential without a divided-difference callback falls back to
+     *  EDMI_LG_QUOTIENT. */
+    EDMI_LG_CLOSED = 0,
+    /** The quotient as written, replaced by the alternate force of edmi_lg_alt on every link
+     *  whose |d1 - d0| <= tol_Q (the paper's section 3.4). */
+    EDMI_LG_QUOTIENT
+} edmi_lg_form;
+
+/** LG's alternate force on a link when |d1 - d0| <= tol_Q (EDMI_LG_QUOTIENT only). */
+typedef enum edmi_lg_alt {
+    EDMI_ALT_JANZ = 0, /*!< V'(d_avg), the paper's default (eq. janz-mid-point-rescue) */
+    EDMI_ALT_GONZALEZ, /*!< V'(d_avg) + (d1-d0)^2/24 V'''(d_avg) (eq. gonzalez-mid-point-rescue) */
+    EDMI_ALT_GE,       /*!< the generalized Eyre force: energy-decaying */
+    EDMI_ALT_PM,       /*!< the perturbed mid-point force: energy-decaying */
+    EDMI_ALT_PT        /*!< the perturbed trapezoidal force: energy-decaying */
+} edmi_lg_alt;
+
+/** Solver and scheme parameters; start from edmi_default_params() and edit. */
+typedef struct edmi_params {
+    edmi_scheme scheme;  /*!< which algorithmic force */
+    edmi_lg_form lg_form; /*!< LG only: closed-form divided difference or quotient + switch */
+    edmi_lg_alt lg_alt;  /*!< LG quotient only: alternate force in the singular limit */
+    edmi_real tol_q;     /*!< LG quotient only: switch when |d1 - d0| <= tol_q [length] */
+    edmi_real tol_r;     /*!< stop when scaled residual <= tol_r * scaled residual of predictor */
+    edmi_real tol_a;     /*!< stop when scaled residual <= tol_a [dimensionless] */
+    int l_max;           /*!< at most this many Newton corrections per step (>= 1) */
+} edmi_params;
+
+/** Derivatives 0..4 of the split parts of a potential at one distance r:
+ *  V = c + e (convex/concave: c'' >= 0, e'' <= 0) and V = sp + sm
+ *  (super-convex/super-concave: sp'''' >= 0, sm'''' <= 0). Index k holds the k-th derivative. */
+typedef struct edmi_pot_parts {
+    edmi_real c[5];  /*!< convex part V_c */
+    edmi_real e[5];  /*!< concave part V_e */
+    edmi_real sp[5]; /*!< super-convex part V_+ */
+    edmi_real sm[5]; /*!< super-concave part V_- */
+} edmi_pot_parts;
+
+/** User potential: fill *out at distance r > 0 (all 20 entries). Return 0 on success, non-zero
+ *  if r is outside the potential's domain (the step then fails with EDMI_ERR_DIVERGED). */
+typedef int (*edmi_user_pot_fn)(void *ctx, edmi_real r, edmi_pot_parts *out);
+
+/** Optional user divided difference: *dd = [V(d1)-V(d0)]/(d1-d0) and
+ *  *dd_d1 = d(dd)/d(d1), both in a form that stays finite at d1 == d0. Return 0 on success. */
+typedef int (*edmi_user_dd_fn)(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd,
+                               edmi_real *dd_d1);
+
+/** Built-in potentials (section 3.1 of the paper). */
+typedef enum edmi_pot_kind {
+    EDMI_POT_HARMONIC = 0, /*!< V = k/2 (r - r0)^2;              a = k > 0, b = r0 >= 0 */
+    EDMI_POT_QUARTIC,      /*!< V = k/4 (r^2 - L^2)^2 (Gonzalez); a = k > 0, b = L >= 0 */
+    EDMI_POT_NEO_HOOKE,    /*!< V = c rb^2/6 ((r/rb)^2 + 2 rb/r - 3); a = c > 0, b = rb > 0 */
+    EDMI_POT_LJ,           /*!< V = 4 eps ((s/r)^12 - (s/r)^6);  a = eps > 0, b = s > 0 */
+    EDMI_POT_INVERSE,      /*!< V = -k/r (gravity k = G m_A m_B > 0, Coulomb k < 0); a = k != 0 */
+    EDMI_POT_USER          /*!< callbacks fn (required) and dd (optional) with ctx */
+} edmi_pot_kind;
+
+/** A pair potential. Build it with edmi_pot_harmonic() etc. */
+typedef struct edmi_potential {
+    edmi_pot_kind kind;
+    edmi_real a;         /*!< first parameter (see edmi_pot_kind) */
+    edmi_real b;         /*!< second parameter (see edmi_pot_kind) */
+    edmi_user_pot_fn fn; /*!< EDMI_POT_USER: derivatives of the split parts */
+    edmi_user_dd_fn dd;  /*!< EDMI_POT_USER: closed-form divided difference, or NULL */
+    void *ctx;           /*!< EDMI_POT_USER: passed to fn and dd */
+} edmi_potential;
+
+/** A body: diagonal mass, position and momentum. */
+typedef struct edmi_body {
+    edmi_real m;    /*!< mass [M] */
+    edmi_real q[3]; /*!< position [L] */
+    edmi_real p[3]; /*!< linear momentum [M L / T] */
+} edmi_body;
+
+/** Marks a link whose second end is a fixed anchor point. */
+#define EDMI_ANCHOR (-1)
+
+/** A link: potential V(d) between bodies a and b, or between body a and a fixed anchor. */
+typedef struct edmi_link {
+    int a;               /*!< first body */
+    int b;               /*!< second body, or EDMI_ANCHOR */
+    edmi_real anchor[3]; /*!< anchor point [L] when b == EDMI_ANCHOR (else zero) */
+    edmi_potential pot;  /*!< the pair potential */
+} edmi_link;
+
+/** A system: bodies, links, parameters and time. Caller-owned; initialise with edmi_init(). */
+typedef struct edmi_system {
+    int n_bodies;
+    int n_links;
+    edmi_real t; /*!< time of the current state [T], advanced by edmi_step() */
+    edmi_params params;
+    edmi_body body[EDMI_MAX_BODIES];
+    edmi_link link[EDMI_MAX_LINKS];
+} edmi_system;
+
+/** Newton scratch space. Caller-owned, contents meaningless between calls; one workspace may
+ *  serve several systems stepped one after another. */
+typedef struct edmi_workspace {
+    edmi_real q1[EDMI_MAX_BODIES][3]; /* iterate q_{n+1,(l)} */
+    edmi_real p1[EDMI_MAX_BODIES][3]; /* iterate p_{n+1,(l)} */
+    edmi_real rq[EDMI_MAX_BODIES][3]; /* residual R_q */
+    edmi_real rp[EDMI_MAX_BODIES][3]; /* residual R_p */
+    edmi_real sq[EDMI_MAX_BODIES];    /* per-body position scale of the stopping test */
+    edmi_real sp[EDMI_MAX_BODIES];    /* per-body momentum scale of the stopping test */
+    edmi_real rhs[3 * EDMI_MAX_BODIES];
+    edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
+    int piv[3 * EDMI_MAX_BODIES];
+    edmi_real r0[EDMI_MAX_LINKS][3]; /* link vector at t_n */
+    edmi_real d0[EDMI_MAX_LINKS];    /* link distance at t_n */
+    edmi_real k[EDMI_MAX_LINKS][9];  /* link tangent block d f / d r_{n+1} */
+} edmi_workspace;
+
+/** Why Newton stopped (a successful step). */
+typedef enum edmi_stop {
+    EDMI_STOP_TOL_R = 0, /*!< scaled residual <= tol_r * initial scaled residual */
+    EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a */
+    EDMI_STOP_STALLED    /*!< residual stopped decreasing at the round-off floor (100 eps) */
+} edmi_stop;
+
+/** What one step did. Filled on success and on EDMI_ERR_SINGULAR / NO_CONVERGENCE /
+ *  DIVERGED (so the caller can see how far Newton got); zeroed on input errors. */
+typedef struct edmi_step_result {
+    int iterations;      /*!< Newton corrections taken */
+    edmi_stop stop;      /*!< why Newton stopped (meaningful when the step succeeded) */
+    edmi_real residual;  /*!< final scaled residual (dimensionless, see README) */
+    edmi_real residual0; /*!< scaled residual of the predictor */
+    int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
+} edmi_step_result;
+
+/** Invariants of a state (section 2 and 4.1 of the paper). */
+typedef struct edmi_invariants {
+    edmi_real h;    /*!< Hamiltonian H = K + V */
+    edmi_real k;    /*!< kinetic energy K */
+    edmi_real v;    /*!< potential energy V (sum over links) */
+    edmi_real j[3]; /*!< angular momentum J = sum q x p (about the origin) */
+    edmi_real l[3]; /*!< linear momentum L = sum p */
+    edmi_real c[3]; /*!< centre-of-mass invariant C(t) = (sum m q - t L) / sum m */
+} edmi_invariants;
+
+/* ------------------------------------------------------------------------------------------
+ * Build a system
+ * ---------------------------------------------------------------------------------------- */
+
+/** \brief Defaults: scheme MP, LG closed form, alternate Janz, tol_Q 1e-8, tol_R 1e-10,
+ *  tol_A 1e-15, l_max 20 in double (the paper's section 3.4); float values in edmi.c. */
+edmi_params edmi_default_params(void);
+
+/** \brief Empty the system and set its parameters.
+ *  \param[out] sys the system
+ *  \param[in] params parameters, or NULL for edmi_default_params()
+ *  \return EDMI_OK, EDMI_ERR_NULL (sys), EDMI_ERR_PARAM (params invalid; sys untouched) */
+edmi_status edmi_init(edmi_system *sys, const edmi_params *params);
+
+/** \brief Replace the parameters (e.g. switch scheme between steps).
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM */
+edmi_status edmi_set_params(edmi_system *sys, const edmi_params *params);
+
+/** \brief Append a body.
+ *  \param[in] m mass > 0; \param[in] q position; \param[in] p momentum
+ *  \param[out] index the new body's index, or NULL
+ *  \return EDMI_OK, EDMI_ERR_NULL (sys, q or p), EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
+ *          EDMI_ERR_CAPACITY */
+edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
+                          const edmi_real p[3], int *index);
+
+/** \brief Link bodies a != b with a pair potential.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_PARAM, EDMI_ERR_NONFINITE,
+ *          EDMI_ERR_CAPACITY */
+edmi_status edmi_add_pair(edmi_system *sys, int a, int b, const edmi_potential *pot,
+                          int *index);
+
+/** \brief Tie body a to the fixed point x with a potential of the distance ||q_a - x||.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_PARAM, EDMI_ERR_NONFINITE,
+ *          EDMI_ERR_CAPACITY */
+edmi_status edmi_add_anchor(edmi_system *sys, int a, const edmi_real x[3],
+                            const edmi_potential *pot, int *index);
+
+/** \brief Potential constructors (no validation here; edmi_add_pair/anchor validate). */
+edmi_potential edmi_pot_harmonic(edmi_real k, edmi_real r0);
+edmi_potential edmi_pot_quartic(edmi_real k, edmi_real len);
+edmi_potential edmi_pot_neo_hooke(edmi_real c, edmi_real rbar);
+edmi_potential edmi_pot_lj(edmi_real eps, edmi_real sigma);
+edmi_potential edmi_pot_inverse(edmi_real k);
+edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx);
+
+/* ------------------------------------------------------------------------------------------
+ * Step it
+ * ---------------------------------------------------------------------------------------- */
+
+/** \brief Advance the system by dt with its scheme (Newton predictor multi-corrector).
+ *  The system changes only when EDMI_OK is returned.
+ *  \param[in,out] sys the system; \param[out] work scratch space; \param[in] dt > 0
+ *  \param[out] res what the step did, or NULL
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
+ *          EDMI_ERR_INDEX, EDMI_ERR_PARAM, EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR,
+ *          EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED */
+edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                      edmi_step_result *res);
+
+/* ------------------------------------------------------------------------------------------
+ * Measure it
+ * ---------------------------------------------------------------------------------------- */
+
+/** \brief H, K, V, J, L and C(t) of the current state.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_COINCIDENT (a potential undefined at d = 0),
+ *          EDMI_ERR_DIVERGED (a user potential refused a distance) */
+edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out);
+
+/** \brief Derivatives 0..4 of the split parts of a potential at r > 0.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM (invalid potential or r <= 0),
+ *          EDMI_ERR_DIVERGED (user callback refused r) */
+edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts *out);
+
+/** \brief Closed-form divided difference [V(d1)-V(d0)]/(d1-d0) and its d1-derivative,
+ *  finite at d1 == d0 (then V'(d0) and V''(d0)/2).
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM (invalid, d <= 0, or a user potential
+ *          without dd), EDMI_ERR_DIVERGED (user callback refused) */
+edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real d1,
+                             edmi_real *dd, edmi_real *dd_d1);
+
+/* ------------------------------------------------------------------------------------------
+ * Verify it: the residual and consistent tangent Newton uses, for tests and diagnostics
+ * ---------------------------------------------------------------------------------------- */
+
+/** \brief Residuals R_q, R_p of the scheme at a trial end state (q1, p1) for a step dt from
+ *  the system's current state (arrays of sys->n_bodies rows). Does not change sys.
+ *  \param[out] lg_switches links on the LG alternate force (may be NULL)
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_COINCIDENT, EDMI_ERR_DIVERGED */
+edmi_status edmi_residual(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                          const edmi_real (*q1)[3], const edmi_real (*p1)[3],
+                          edmi_real (*rq)[3], edmi_real (*rp)[3], int *lg_switches);
+
+/** \brief Consistent tangent dR_p/dq1 at the trial end state, dense row-major
+ *  (3 n_bodies)^2 into kmat (dR_q/dq1 = I and dR_p/dp1 = I, dR_q/dp1 = -dt/(2m) I are exact).
+ *  \return as edmi_residual() */
+edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                         const edmi_real (*q1)[3], const edmi_real (*p1)[3], edmi_real *kmat);
+
+/* ------------------------------------------------------------------------------------------
+ * Misc
+ * ---------------------------------------------------------------------------------------- */
+
+/** \brief A constant English name of a status ("EDMI_OK", ...). */
+const char *edmi_status_name(edmi_status s);
+
+/** \brief 1 if this build uses double precision, 0 if float: check it against the
+ *  header your code was compiled with, since the precision changes the ABI. */
+int edmi_is_double_precision(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* EDMI_H */

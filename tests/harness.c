@@ -1,0 +1,167 @@
+#include "harness.h"
+
+static long th_npass;
+static long th_nfail;
+
+void th_puts(const char *s)
+{
+    while (*s)
+        th_putchar(*s++);
+}
+
+void th_newline(void) { th_putchar('\n'); }
+
+void th_put_int(long v)
+{
+    char buf[24];
+    int n = 0;
+    unsigned long u = v < 0 ? 0UL - (unsigned long)v : (unsigned long)v;
+    if (v < 0)
+        th_putchar('-');
+    do {
+        buf[n++] = (char)('0' + (int)(u % 10UL));
+        u /= 10UL;
+    } while (u != 0UL);
+    while (n > 0)
+        th_putchar(buf[--n]);
+}
+
+void th_put_real(edmi_real x, int sig)
+{
+    int e10 = 0, i;
+    edmi_real scale = EDMI_R(1.0);
+    if (x != x) {
+        th_puts("nan");
+        return;
+    }
+    if (x < EDMI_R(0.0)) {
+        th_putchar('-');
+        x = -x;
+    }
+    if (x > EDMI_REAL_MAX) {
+        th_puts("inf");
+        return;
+    }
+    if (sig < 1)
+        sig = 1;
+    if (sig > 9)
+        sig = 9;
+    if (x != EDMI_R(0.0)) {
+        while (x >= EDMI_R(10.0)) {
+            x /= EDMI_R(10.0);
+            e10++;
+        }
+        while (x < EDMI_R(1.0)) {
+            x *= EDMI_R(10.0);
+            e10--;
+        }
+    }
+    for (i = 1; i < sig; i++)
+        scale *= EDMI_R(10.0);
+    {
+        /* round to sig digits as an integer mantissa */
+        unsigned long mant = (unsigned long)(x * scale + EDMI_R(0.5));
+        char buf[12];
+        int n = 0;
+        if ((edmi_real)mant >= scale * EDMI_R(10.0)) {
+            mant /= 10UL;
+            e10++;
+        }
+        for (i = 0; i < sig; i++) {
+            buf[n++] = (char)('0' + (int)(mant % 10UL));
+            mant /= 10UL;
+        }
+        th_putchar(buf[--n]);
+        if (n > 0)
+            th_putchar('.');
+        while (n > 0)
+            th_putchar(buf[--n]);
+    }
+    th_putchar('e');
+    th_put_int(e10);
+}
+
+void th_suite(const char *name)
+{
+    th_puts("== ");
+    th_puts(name);
+    th_newline();
+}
+
+static void th_where(const char *file, int line, const char *text)
+{
+    th_puts("FAIL ");
+    th_puts(file);
+    th_putchar(':');
+    th_put_int(line);
+    th_puts(": ");
+    th_puts(text);
+}
+
+int th_check(int cond, const char *file, int line, const char *text)
+{
+    if (cond) {
+        th_npass++;
+        return 1;
+    }
+    th_nfail++;
+    th_where(file, line, text);
+    th_newline();
+    return 0;
+}
+
+int th_check_near(edmi_real a, edmi_real b, edmi_real abs_tol, edmi_real rel_tol,
+                  const char *file, int line, const char *text)
+{
+    edmi_real d = a - b, bb = b < EDMI_R(0.0) ? -b : b;
+    edmi_real bound = abs_tol + rel_tol * bb;
+    if (d < EDMI_R(0.0))
+        d = -d;
+    if (d <= bound) { /* false for NaN */
+        th_npass++;
+        return 1;
+    }
+    th_nfail++;
+    th_where(file, line, text);
+    th_puts(" (");
+    th_put_real(a, 9);
+    th_puts(" vs ");
+    th_put_real(b, 9);
+    th_puts(", |diff| ");
+    th_put_real(d, 3);
+    th_puts(" > ");
+    th_put_real(bound, 3);
+    th_puts(")");
+    th_newline();
+    return 0;
+}
+
+void th_note_real(const char *label, edmi_real v)
+{
+    th_puts("  ");
+    th_puts(label);
+    th_puts(" = ");
+    th_put_real(v, 4);
+    th_newline();
+}
+
+void th_note_int(const char *label, long v)
+{
+    th_puts("  ");
+    th_puts(label);
+    th_puts(" = ");
+    th_put_int(v);
+    th_newline();
+}
+
+int th_failed(void) { return (int)th_nfail; }
+
+int th_finish(void)
+{
+    th_put_int(th_npass);
+    th_puts(" passed, ");
+    th_put_int(th_nfail);
+    th_puts(" failed");
+    th_newline();
+    return (int)th_nfail;
+}

@@ -1,0 +1,13 @@
+/* The test suites; each lives in its own file and is run by test_main.c. */
+#ifndef EDMI_TEST_SUITES_H
+#define EDMI_TEST_SUITES_H
+
+void suite_potentials(void); /* test_potentials.c: derivatives, splits, divided differences */
+void suite_invalid(void);    /* test_invalid.c: every bad input, system unchanged (memcmp) */
+void suite_tangent(void);    /* test_tangent.c: consistent tangent vs finite differences, Newton */
+void suite_energy(void);     /* test_energy.c: per-step energy laws, J/L/C conservation */
+void suite_orders(void);     /* test_orders.c: observed convergence orders */
+void suite_paper(void);      /* test_paper.c: the paper's H0, J0 and accuracy table */
+void suite_hard(void);       /* test_hard.c: circular orbit, LG switch, near-collision, stiff */
+
+#endif
