@@ -33,13 +33,13 @@
 #endif
 
 /** Bodies per system. Costs 7 reals per body in edmi_system and
- *  9*EDMI_MAX_BODIES^2 + 16*EDMI_MAX_BODIES reals (+ 3*EDMI_MAX_BODIES ints) in edmi_workspace:
+ *  9*EDMI_MAX_BODIES^2 + 21*EDMI_MAX_BODIES reals (+ 3*EDMI_MAX_BODIES ints) in edmi_workspace:
  *  the Newton matrix is stored dense, but only its band is touched (see README, "solver"). */
 #ifndef EDMI_MAX_BODIES
 #define EDMI_MAX_BODIES 16
 #endif
 
-/** Links (pair or anchor) per system. Costs one edmi_link in edmi_system and 8 reals in
+/** Links (pair or anchor) per system. Costs one edmi_link in edmi_system and 17 reals in
  *  edmi_workspace per link. */
 #ifndef EDMI_MAX_LINKS
 #define EDMI_MAX_LINKS 64
@@ -154,13 +154,15 @@ typedef struct edmi_params {
  *  V = c + e (convex/concave: c'' >= 0, e'' <= 0) and V = sp + sm
  *  (super-convex/super-concave: sp'''' >= 0, sm'''' <= 0). Index k holds the k-th derivative. */
 typedef struct edmi_pot_parts {
+    edmi_real v[5];  /*!< V itself, in its best-conditioned form (for built-ins not computed
+                          as c + e, which cancels near a rest length); user potentials: c + e */
     edmi_real c[5];  /*!< convex part V_c */
     edmi_real e[5];  /*!< concave part V_e */
     edmi_real sp[5]; /*!< super-convex part V_+ */
     edmi_real sm[5]; /*!< super-concave part V_- */
 } edmi_pot_parts;
 
-/** User potential: fill *out at distance r > 0 (all 20 entries). Return 0 on success, non-zero
+/** User potential: fill c, e, sp, sm of *out at distance r > 0 (v is set to c + e). Return 0 on success, non-zero
  *  if r is outside the potential's domain (the step then fails with EDMI_ERR_DIVERGED). */
 typedef int (*edmi_user_pot_fn)(void *ctx, edmi_real r, edmi_pot_parts *out);
 
@@ -217,6 +219,19 @@ typedef struct edmi_system {
     edmi_link link[EDMI_MAX_LINKS];
 } edmi_system;
 
+/** Per-link scratch: the start-of-step quantities a link's force needs, computed once per
+ *  step, and the link's tangent block. */
+typedef struct edmi_link_ws {
+    edmi_real r0[3]; /* link vector r_n = q_A,n - q_B,n (or - anchor) */
+    edmi_real d0;    /* d_n = |r_n| */
+    edmi_real v0;    /* V(d_n) */
+    edmi_real dv0;   /* V'(d_n) */
+    edmi_real dve0;  /* V_e'(d_n) */
+    edmi_real d3p0;  /* V_+'''(d_n) */
+    edmi_real d3m0;  /* V_-'''(d_n) */
+    edmi_real k[9];  /* tangent block d f / d r_{n+1}, row-major */
+} edmi_link_ws;
+
 /** Newton scratch space. Caller-owned, contents meaningless between calls; one workspace may
  *  serve several systems stepped one after another. */
 typedef struct edmi_workspace {
@@ -226,19 +241,19 @@ typedef struct edmi_workspace {
     edmi_real rp[EDMI_MAX_BODIES][3]; /* residual R_p */
     edmi_real sq[EDMI_MAX_BODIES];    /* per-body position scale of the stopping test */
     edmi_real sp[EDMI_MAX_BODIES];    /* per-body momentum scale of the stopping test */
+    edmi_real nq[EDMI_MAX_BODIES];    /* round-off floor estimate of |R_q| */
+    edmi_real np[EDMI_MAX_BODIES];    /* round-off floor estimate of |R_p| */
     edmi_real rhs[3 * EDMI_MAX_BODIES];
     edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
     int piv[3 * EDMI_MAX_BODIES];
-    edmi_real r0[EDMI_MAX_LINKS][3]; /* link vector at t_n */
-    edmi_real d0[EDMI_MAX_LINKS];    /* link distance at t_n */
-    edmi_real k[EDMI_MAX_LINKS][9];  /* link tangent block d f / d r_{n+1} */
+    edmi_link_ws lw[EDMI_MAX_LINKS];
 } edmi_workspace;
 
 /** Why Newton stopped (a successful step). */
 typedef enum edmi_stop {
     EDMI_STOP_TOL_R = 0, /*!< scaled residual <= tol_r * initial scaled residual */
     EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a */
-    EDMI_STOP_STALLED    /*!< residual stopped decreasing at the round-off floor (100 eps) */
+    EDMI_STOP_STALLED    /*!< residual reached its round-off floor (see edmi_step_result) */
 } edmi_stop;
 
 /** What one step did. Filled on success and on EDMI_ERR_SINGULAR / NO_CONVERGENCE /
@@ -248,6 +263,9 @@ typedef struct edmi_step_result {
     edmi_stop stop;      /*!< why Newton stopped (meaningful when the step succeeded) */
     edmi_real residual;  /*!< final scaled residual (dimensionless, see README) */
     edmi_real residual0; /*!< scaled residual of the predictor */
+    edmi_real floor;     /*!< round-off floor of the final scaled residual, estimated from the
+                              magnitudes entering it (incl. the LG quotient's cancellation);
+                              Newton accepts residual <= 8 floor as converged (STALLED) */
     int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
 } edmi_step_result;
 
