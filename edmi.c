@@ -18,6 +18,14 @@
 /* Newton accepts a residual within this factor of its estimated round-off floor. */
 #define EDMI__FLOOR_FACTOR EDMI_R(8.0)
 
+/* sqrt(eps): a residual reduced this far below the predictor's is in Newton's quadratic
+ * regime, where (the tangent being exact) only round-off stops it from shrinking. */
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+#define EDMI__SQRT_EPS EDMI_R(1.4901161193847656e-8)
+#else
+#define EDMI__SQRT_EPS EDMI_R(3.4526698e-4)
+#endif
+
 static int edmi__finite(edmi_real x)
 {
     /* x - x is 0 for finite x and NaN for inf/NaN (no fast-math: this is not folded). */
@@ -237,6 +245,28 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
         break;
     }
     return EDMI_OK;
+}
+
+/* Round-off scale of V': |computed V'(r) - V'(r)| <~ eps * this. Not eps |V'|: near a rest
+ * length the terms that cancel (r - r0, r^2 - L^2, the attractive and repulsive LJ parts) are
+ * much larger than V' itself. Newton's stopping test uses it to know its round-off floor. */
+static edmi_real edmi__dv_roundoff(const edmi_potential *pot, edmi_real r, const edmi_pot_parts *pp)
+{
+    edmi_real a = pot->a, b = pot->b;
+    switch (pot->kind) {
+    case EDMI_POT_HARMONIC:
+        return a * (r + b);
+    case EDMI_POT_QUARTIC:
+        return a * r * (r * r + b * b);
+    case EDMI_POT_NEO_HOOKE:
+        return a / EDMI_R(3.0) * (r + b) * (r * r + r * b + b * b) / (r * r);
+    case EDMI_POT_INVERSE:
+        return edmi__abs(pp->v[1]);
+    case EDMI_POT_LJ:
+    case EDMI_POT_USER:
+    default:
+        return edmi__abs(pp->c[1]) + edmi__abs(pp->e[1]);
+    }
 }
 
 /* Complete homogeneous polynomial h = sum_{j=0..m} a^j b^(m-j) and dh/da, by Horner in a
@@ -554,6 +584,7 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         w->dve0 = p0.e[1];
         w->d3p0 = p0.sp[3];
         w->d3m0 = p0.sm[3];
+        w->dv0_err = EDMI_EPS * edmi__dv_roundoff(&lk->pot, w->d0, &p0);
     }
     return EDMI_OK;
 }
@@ -601,8 +632,11 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
                                         (i == c ? EDMI__HALF * le.beta : EDMI__ZERO));
         }
         {
-            edmi_real nrm = edmi__norm(rm), nf = dt * nrm * (EDMI_R(4.0) * EDMI_EPS *
-                                                            edmi__abs(le.beta) + le.beta_err);
+            /* beta ~ V'/d: its round-off is a few eps |beta|, V''s own (2 evaluations near
+             * d_n), and the LG quotient's cancellation */
+            edmi_real nrm = edmi__norm(rm);
+            edmi_real nf = dt * nrm * (EDMI_R(4.0) * EDMI_EPS * edmi__abs(le.beta) +
+                                       EDMI_R(2.0) * w->dv0_err / w->d0 + le.beta_err);
             work->np[lk->a] += nf;
             if (lk->b != EDMI_ANCHOR)
                 work->np[lk->b] += nf;
@@ -896,7 +930,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
 {
     edmi_step_result local;
     const edmi_params *prm;
-    edmi_real r;
+    edmi_real r, rprev;
     edmi_status st;
     int a, l;
     if (!res)
@@ -937,6 +971,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                 &res->lg_switches);
             if (st != EDMI_OK)
                 return st;
+            rprev = r;
             r = edmi__scaled_residual(sys, work, &res->floor);
             res->iterations = l;
             res->residual = r;
@@ -948,7 +983,11 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                 res->stop = EDMI_STOP_TOL_A;
                 break;
             }
-            if (r <= EDMI__FLOOR_FACTOR * res->floor) {
+            /* Round-off floor: estimated, or shown by a quadratic regime that stopped
+             * contracting (cancellation inside a potential, e.g. r^2 - L^2 near the rest
+             * length, is not in the estimate). */
+            if (r <= EDMI__FLOOR_FACTOR * res->floor ||
+                (l >= 2 && rprev <= EDMI__SQRT_EPS * res->residual0 && r > EDMI__HALF * rprev)) {
                 res->stop = EDMI_STOP_STALLED;
                 break;
             }

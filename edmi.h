@@ -39,7 +39,7 @@
 #define EDMI_MAX_BODIES 16
 #endif
 
-/** Links (pair or anchor) per system. Costs one edmi_link in edmi_system and 17 reals in
+/** Links (pair or anchor) per system. Costs one edmi_link in edmi_system and 18 reals in
  *  edmi_workspace per link. */
 #ifndef EDMI_MAX_LINKS
 #define EDMI_MAX_LINKS 64
@@ -229,6 +229,7 @@ typedef struct edmi_link_ws {
     edmi_real dve0;  /* V_e'(d_n) */
     edmi_real d3p0;  /* V_+'''(d_n) */
     edmi_real d3m0;  /* V_-'''(d_n) */
+    edmi_real dv0_err; /* round-off of V'(d_n), for the stopping test */
     edmi_real k[9];  /* tangent block d f / d r_{n+1}, row-major */
 } edmi_link_ws;
 
@@ -253,7 +254,9 @@ typedef struct edmi_workspace {
 typedef enum edmi_stop {
     EDMI_STOP_TOL_R = 0, /*!< scaled residual <= tol_r * initial scaled residual */
     EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a */
-    EDMI_STOP_STALLED    /*!< residual reached its round-off floor (see edmi_step_result) */
+    EDMI_STOP_STALLED    /*!< residual reached its round-off floor: <= 8 x the estimated floor
+                              (edmi_step_result.floor), or it stopped halving after Newton's
+                              quadratic regime (previous residual <= sqrt(eps) x residual0) */
 } edmi_stop;
 
 /** What one step did. Filled on success and on EDMI_ERR_SINGULAR / NO_CONVERGENCE /
@@ -264,8 +267,7 @@ typedef struct edmi_step_result {
     edmi_real residual;  /*!< final scaled residual (dimensionless, see README) */
     edmi_real residual0; /*!< scaled residual of the predictor */
     edmi_real floor;     /*!< round-off floor of the final scaled residual, estimated from the
-                              magnitudes entering it (incl. the LG quotient's cancellation);
-                              Newton accepts residual <= 8 floor as converged (STALLED) */
+                              magnitudes entering it (incl. the LG quotient's cancellation) */
     int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
 } edmi_step_result;
 
