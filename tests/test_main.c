@@ -13,5 +13,6 @@ int main(void)
     suite_orders();
     suite_paper();
     suite_hard();
+    suite_solver();
     return th_finish() == 0 ? 0 : 1;
 }
