@@ -589,6 +589,74 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
     return EDMI_OK;
 }
 
+/* Linear viscous damper along a link (section "effects" of README): impulse
+ *     I = c (dr . r_m) r_m / |r_m|^2,   dr = r_n+1 - r_n,
+ * is parallel to r_m, so L, J and C are conserved (lemma many-body-momentum), and it removes
+ * exactly dr . I / dt = c (dr . r_m)^2 / (|r_m|^2 dt) >= 0 per step. k = dI / dr_n+1. */
+static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_real r1[3],
+                                edmi_real imp[3], edmi_real k[9])
+{
+    edmi_real dr[3], rm[3], m2, s, cs;
+    int i, j;
+    edmi__sub(r1, w->r0, dr);
+    for (i = 0; i < 3; i++)
+        rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+    m2 = edmi__dot(rm, rm);
+    if (!(m2 > EDMI__ZERO))
+        return EDMI_ERR_DIVERGED;
+    s = edmi__dot(dr, rm);
+    cs = c * s / m2;
+    for (i = 0; i < 3; i++) {
+        imp[i] = cs * rm[i];
+        for (j = 0; j < 3; j++)
+            k[3 * i + j] = c / m2 * rm[i] * (rm[j] + EDMI__HALF * dr[j] - EDMI_R(2.0) * s / m2 * rm[j]) +
+                           (i == j ? EDMI__HALF * cs : EDMI__ZERO);
+    }
+    return EDMI_OK;
+}
+
+/* Add the effects beyond links to R_p: force ports (-dt F), the uniform field (-dt m g),
+ * dampers (+I on a, -I on b). Each is a loop over its own list: absent effects cost nothing. */
+static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace *work,
+                                          edmi_real dt, const edmi_real (*q1)[3],
+                                          edmi_real (*rp)[3])
+{
+    int a, i, d;
+    for (a = 0; a < sys->n_forced; a++) {
+        int b = sys->forced[a];
+        for (i = 0; i < 3; i++)
+            rp[b][i] -= dt * sys->force[b][i];
+        work->np[b] += EDMI_EPS * dt * edmi__norm(sys->force[b]);
+    }
+    if (sys->has_field)
+        for (a = 0; a < sys->n_bodies; a++) {
+            edmi_real mdt = dt * sys->body[a].m;
+            for (i = 0; i < 3; i++)
+                rp[a][i] -= mdt * sys->g[i];
+            work->np[a] += EDMI_EPS * mdt * edmi__norm(sys->g);
+        }
+    for (d = 0; d < sys->n_dampers; d++) {
+        const edmi_link *lk = &sys->link[sys->damper[d].link];
+        edmi_real r1[3], imp[3], ni;
+        edmi_status st;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
+        st = edmi__damper(&work->lw[sys->damper[d].link], sys->damper[d].c, r1, imp,
+                          work->kd[d]);
+        if (st != EDMI_OK)
+            return st;
+        ni = EDMI_R(4.0) * EDMI_EPS * edmi__norm(imp);
+        work->np[lk->a] += ni;
+        for (i = 0; i < 3; i++)
+            rp[lk->a][i] += imp[i];
+        if (lk->b != EDMI_ANCHOR) {
+            work->np[lk->b] += ni;
+            for (i = 0; i < 3; i++)
+                rp[lk->b][i] -= imp[i];
+        }
+    }
+    return EDMI_OK;
+}
+
 /* R_q, R_p at the trial end state (q1, p1), each link's tangent block (in work->lw), and
  * the round-off floors |R_q| and |R_p| cannot go below (work->nq, work->np): eps times the
  * magnitudes summed into them, plus the LG quotient's cancellation error. */
@@ -597,6 +665,7 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
                                   edmi_real (*rq)[3], edmi_real (*rp)[3], int *switches)
 {
     int a, i, j, nsw = 0;
+    edmi_status st;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real h = dt / bd->m * EDMI__HALF;
@@ -613,7 +682,6 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
         edmi_link_ws *w = &work->lw[j];
         edmi__link_eval le;
         edmi_real r1[3], rm[3], f[3];
-        edmi_status st;
         edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
         for (i = 0; i < 3; i++)
             rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
@@ -624,6 +692,7 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
         if (st != EDMI_OK)
             return st;
         nsw += le.switched;
+        w->beta = le.beta;
         for (i = 0; i < 3; i++) {
             int c;
             f[i] = dt * le.beta * rm[i];
@@ -647,6 +716,9 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
                 rp[lk->b][i] -= f[i];
         }
     }
+    st = edmi__effects_residual(sys, work, dt, q1, rp);
+    if (st != EDMI_OK)
+        return st;
     for (a = 0; a < sys->n_bodies; a++)
         if (!edmi__finite3(rq[a]) || !edmi__finite3(rp[a]))
             return EDMI_ERR_DIVERGED;
@@ -696,11 +768,38 @@ static int edmi__bandwidth(const edmi_system *sys)
     return 3 * w + 2;
 }
 
+/* Add the tangent block k = d(force on a)/d(q_a - q_b) of a two-ended force (+ on a, - on b;
+ * b may be an anchor) into the dense row-major n x n matrix g, rows of a scaled by ha and rows
+ * of b by hb. */
+static void edmi__scatter(edmi_real *g, int n, const edmi_link *lk, const edmi_real k[9],
+                          edmi_real ha, edmi_real hb)
+{
+    int r, c, ra = 3 * lk->a, rb = 3 * lk->b;
+    for (r = 0; r < 3; r++)
+        for (c = 0; c < 3; c++) {
+            edmi_real v = k[3 * r + c];
+            g[(ra + r) * n + ra + c] += ha * v;
+            if (lk->b != EDMI_ANCHOR) {
+                g[(ra + r) * n + rb + c] -= ha * v;
+                g[(rb + r) * n + ra + c] -= hb * v;
+                g[(rb + r) * n + rb + c] += hb * v;
+            }
+        }
+}
+
+/* Row scale dt / (2 m) of a link's ends (hb unused for an anchor). */
+static void edmi__end_scales(const edmi_system *sys, const edmi_link *lk, edmi_real dt,
+                             edmi_real *ha, edmi_real *hb)
+{
+    *ha = dt / (EDMI_R(2.0) * sys->body[lk->a].m);
+    *hb = lk->b == EDMI_ANCHOR ? EDMI__ZERO : dt / (EDMI_R(2.0) * sys->body[lk->b].m);
+}
+
 /* Assemble G = I + dt/(2 m_A) dR_p/dq1 (rows of body A) into the band of work->mat. */
 static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_real dt, int n,
                            int kb)
 {
-    edmi_real *g = work->mat;
+    edmi_real *g = work->mat, ha, hb;
     int i, j;
     for (i = 0; i < n; i++) {
         int lo = i - kb < 0 ? 0 : i - kb, hi = i + 2 * kb >= n ? n - 1 : i + 2 * kb;
@@ -709,24 +808,13 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
         g[i * n + i] = EDMI__ONE;
     }
     for (j = 0; j < sys->n_links; j++) {
-        const edmi_link *lk = &sys->link[j];
-        const edmi_real *k = work->lw[j].k;
-        int ends[2], e, r, c;
-        ends[0] = lk->a;
-        ends[1] = lk->b;
-        for (e = 0; e < (lk->b == EDMI_ANCHOR ? 1 : 2); e++) {
-            /* row block of body ends[e]: +K on (a), -K on (b), sign flipped for body b */
-            edmi_real sr = e == 0 ? EDMI__ONE : -EDMI__ONE;
-            edmi_real h = dt / (EDMI_R(2.0) * sys->body[ends[e]].m);
-            int row0 = 3 * ends[e];
-            for (r = 0; r < 3; r++)
-                for (c = 0; c < 3; c++) {
-                    edmi_real v = sr * h * k[3 * r + c];
-                    g[(row0 + r) * n + 3 * lk->a + c] += v;
-                    if (lk->b != EDMI_ANCHOR)
-                        g[(row0 + r) * n + 3 * lk->b + c] -= v;
-                }
-        }
+        edmi__end_scales(sys, &sys->link[j], dt, &ha, &hb);
+        edmi__scatter(g, n, &sys->link[j], work->lw[j].k, ha, hb);
+    }
+    for (j = 0; j < sys->n_dampers; j++) {
+        const edmi_link *lk = &sys->link[sys->damper[j].link];
+        edmi__end_scales(sys, lk, dt, &ha, &hb);
+        edmi__scatter(g, n, lk, work->kd[j], ha, hb);
     }
 }
 
@@ -802,9 +890,12 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         int j;
         for (i = 0; i < 9; i++)
             g[i] = EDMI__ZERO;
-        for (j = 0; j < sys->n_links; j++)
+        for (j = 0; j < sys->n_links; j++) /* one body: every link is an anchor link */
             for (i = 0; i < 9; i++)
                 g[i] += h * work->lw[j].k[i];
+        for (j = 0; j < sys->n_dampers; j++)
+            for (i = 0; i < 9; i++)
+                g[i] += h * work->kd[j][i];
         g[0] += EDMI__ONE;
         g[4] += EDMI__ONE;
         g[8] += EDMI__ONE;
@@ -885,6 +976,34 @@ static int edmi__link_valid(const edmi_system *sys, const edmi_link *lk)
            (lk->b == EDMI_ANCHOR || (lk->b >= 0 && lk->b < sys->n_bodies && lk->b != lk->a));
 }
 
+/* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
+static edmi_status edmi__validate_effects(const edmi_system *sys)
+{
+    int i;
+    if (sys->n_dampers < 0 || sys->n_dampers > EDMI_MAX_DAMPERS || sys->n_forced < 0 ||
+        sys->n_forced > sys->n_bodies)
+        return EDMI_ERR_CAPACITY;
+    for (i = 0; i < sys->n_dampers; i++) {
+        const edmi_damper *d = &sys->damper[i];
+        if (d->link < 0 || d->link >= sys->n_links)
+            return EDMI_ERR_INDEX;
+        if (!edmi__finite(d->c) || d->c < EDMI__ZERO)
+            return EDMI_ERR_PARAM;
+    }
+    for (i = 0; i < sys->n_forced; i++) {
+        int b = sys->forced[i];
+        if (b < 0 || b >= sys->n_bodies)
+            return EDMI_ERR_INDEX;
+        if (!edmi__finite3(sys->force[b]))
+            return EDMI_ERR_NONFINITE;
+    }
+    if (sys->has_field && !edmi__finite3(sys->g))
+        return EDMI_ERR_NONFINITE;
+    if (!edmi__finite(sys->t))
+        return EDMI_ERR_NONFINITE;
+    return EDMI_OK;
+}
+
 /* Everything edmi_step checks before it touches anything. */
 static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
 {
@@ -912,6 +1031,50 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
         if (!edmi__finite3(lk->anchor))
             return EDMI_ERR_NONFINITE;
     }
+    return edmi__validate_effects(sys);
+}
+
+/* The discrete energy balance of the converged step (before it is committed):
+ * H_n+1 - H_n = work_ext - diss_scheme - diss_damping up to the Newton residual. */
+static edmi_status edmi__energy_report(const edmi_system *sys, edmi_workspace *work,
+                                       edmi_real dt, edmi_step_result *res)
+{
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    int a, j;
+    for (a = 0; a < sys->n_forced; a++) {
+        int b = sys->forced[a];
+        edmi_real dq[3];
+        edmi__sub(q1[b], sys->body[b].q, dq);
+        res->work_ext += edmi__dot(sys->force[b], dq);
+    }
+    for (j = 0; j < sys->n_dampers; j++) {
+        const edmi_link *lk = &sys->link[sys->damper[j].link];
+        edmi_link_ws *w = &work->lw[sys->damper[j].link];
+        edmi_real r1[3], dr[3], imp[3], k[9];
+        edmi_status st;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
+        st = edmi__damper(w, sys->damper[j].c, r1, imp, k);
+        if (st != EDMI_OK)
+            return st;
+        edmi__sub(r1, w->r0, dr);
+        res->diss_damping += edmi__dot(dr, imp) / dt;
+    }
+    if (!sys->params.energy_balance)
+        return EDMI_OK;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        edmi_link_ws *w = &work->lw[j];
+        edmi_real r1[3];
+        edmi_pot_parts p1;
+        edmi_status st;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
+        st = edmi__pot_parts(&lk->pot, edmi__norm(r1), &p1);
+        if (st != EDMI_OK)
+            return st;
+        /* work of f = dt beta r_m over dr, per dt: beta (dr . r_m) = beta (|r1|^2 - |r0|^2)/2 */
+        res->diss_scheme += w->beta * EDMI__HALF * (edmi__dot(r1, r1) - w->d0 * w->d0) -
+                            (p1.v[0] - w->v0);
+    }
     return EDMI_OK;
 }
 
@@ -923,6 +1086,9 @@ static void edmi__clear_result(edmi_step_result *res)
     res->residual0 = EDMI__ZERO;
     res->floor = EDMI__ZERO;
     res->lg_switches = 0;
+    res->work_ext = EDMI__ZERO;
+    res->diss_damping = EDMI__ZERO;
+    res->diss_scheme = EDMI__ZERO;
 }
 
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
@@ -998,6 +1164,10 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
         res->stop = EDMI_STOP_TOL_A;
     }
 
+    st = edmi__energy_report(sys, work, dt, res);
+    if (st != EDMI_OK)
+        return st;
+
     /* Commit. */
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(work->q1[a], sys->body[a].q);
@@ -1038,7 +1208,7 @@ edmi_status edmi_residual(const edmi_system *sys, edmi_workspace *work, edmi_rea
 edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                          const edmi_real (*q1)[3], const edmi_real (*p1)[3], edmi_real *kmat)
 {
-    int n, i, j, r, c;
+    int n, i, j;
     edmi_status st = edmi__check_trial(sys, work, dt, q1, p1);
     if (st != EDMI_OK)
         return st;
@@ -1050,20 +1220,11 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
     n = 3 * sys->n_bodies;
     for (i = 0; i < n * n; i++)
         kmat[i] = EDMI__ZERO;
-    for (j = 0; j < sys->n_links; j++) {
-        const edmi_link *lk = &sys->link[j];
-        const edmi_real *k = work->lw[j].k;
-        for (r = 0; r < 3; r++)
-            for (c = 0; c < 3; c++) {
-                edmi_real v = k[3 * r + c];
-                kmat[(3 * lk->a + r) * n + 3 * lk->a + c] += v;
-                if (lk->b != EDMI_ANCHOR) {
-                    kmat[(3 * lk->a + r) * n + 3 * lk->b + c] -= v;
-                    kmat[(3 * lk->b + r) * n + 3 * lk->a + c] -= v;
-                    kmat[(3 * lk->b + r) * n + 3 * lk->b + c] += v;
-                }
-            }
-    }
+    for (j = 0; j < sys->n_links; j++)
+        edmi__scatter(kmat, n, &sys->link[j], work->lw[j].k, EDMI__ONE, EDMI__ONE);
+    for (j = 0; j < sys->n_dampers; j++)
+        edmi__scatter(kmat, n, &sys->link[sys->damper[j].link], work->kd[j], EDMI__ONE,
+                      EDMI__ONE);
     return EDMI_OK;
 }
 
@@ -1107,6 +1268,9 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
             return st;
         out->v += pp.v[0];
     }
+    if (sys->has_field)
+        for (a = 0; a < sys->n_bodies; a++)
+            out->v -= sys->body[a].m * edmi__dot(sys->g, sys->body[a].q);
     out->h = out->k + out->v;
     for (i = 0; i < 3; i++)
         out->c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * out->l[i]) / mass : EDMI__ZERO;
@@ -1144,6 +1308,7 @@ edmi_params edmi_default_params(void)
     p.lg_form = EDMI_LG_CLOSED;
     p.lg_alt = EDMI_ALT_JANZ;
     p.l_max = 20;
+    p.energy_balance = 0;
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
     /* The paper's section 3.4 values. */
     p.tol_q = EDMI_R(1e-8);
@@ -1256,6 +1421,52 @@ edmi_status edmi_add_anchor(edmi_system *sys, int a, const edmi_real x[3],
     if (!x)
         return EDMI_ERR_NULL;
     return edmi__add_link(sys, a, EDMI_ANCHOR, x, pot, index);
+}
+
+edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3])
+{
+    if (!sys || !g)
+        return EDMI_ERR_NULL;
+    if (!edmi__finite3(g))
+        return EDMI_ERR_NONFINITE;
+    edmi__copy3(g, sys->g);
+    sys->has_field = 1;
+    return EDMI_OK;
+}
+
+edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
+{
+    if (!sys)
+        return EDMI_ERR_NULL;
+    if (link < 0 || link >= sys->n_links)
+        return EDMI_ERR_INDEX;
+    if (!edmi__finite(c) || c < EDMI__ZERO)
+        return EDMI_ERR_PARAM;
+    if (sys->n_dampers >= EDMI_MAX_DAMPERS)
+        return EDMI_ERR_CAPACITY;
+    sys->damper[sys->n_dampers].link = link;
+    sys->damper[sys->n_dampers].c = c;
+    if (index)
+        *index = sys->n_dampers;
+    sys->n_dampers++;
+    return EDMI_OK;
+}
+
+edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
+{
+    int i;
+    if (!sys || !f)
+        return EDMI_ERR_NULL;
+    if (a < 0 || a >= sys->n_bodies)
+        return EDMI_ERR_INDEX;
+    if (!edmi__finite3(f))
+        return EDMI_ERR_NONFINITE;
+    for (i = 0; i < sys->n_forced && sys->forced[i] != a; i++)
+        ;
+    if (i == sys->n_forced)
+        sys->forced[sys->n_forced++] = a;
+    edmi__copy3(f, sys->force[a]);
+    return EDMI_OK;
 }
 
 static edmi_potential edmi__pot(edmi_pot_kind kind, edmi_real a, edmi_real b)

@@ -45,6 +45,12 @@
 #define EDMI_MAX_LINKS 64
 #endif
 
+/** Viscous dampers per system (each acts along one link). Costs 2 words in edmi_system and
+ *  9 reals in edmi_workspace per damper. */
+#ifndef EDMI_MAX_DAMPERS
+#define EDMI_MAX_DAMPERS 16
+#endif
+
 /** The port hook: square root of a non-negative edmi_real. The default is the compiler
  *  builtin, which with -fno-math-errno is one instruction (VSQRT.F32 on Cortex-M4F, VSQRT.F64
  *  on M7, SQRTSD on x86-64); on a core without an FPU it becomes a call to sqrtf/sqrt that
@@ -148,6 +154,8 @@ typedef struct edmi_params {
     edmi_real tol_r;     /*!< stop when scaled residual <= tol_r * scaled residual of predictor */
     edmi_real tol_a;     /*!< stop when scaled residual <= tol_a [dimensionless] */
     int l_max;           /*!< at most this many Newton corrections per step (>= 1) */
+    int energy_balance;  /*!< non-zero: edmi_step reports diss_scheme (costs one potential
+                              evaluation per link per step); 0 by default */
 } edmi_params;
 
 /** Derivatives 0..4 of the split parts of a potential at one distance r:
@@ -209,6 +217,12 @@ typedef struct edmi_link {
     edmi_potential pot;  /*!< the pair potential */
 } edmi_link;
 
+/** A linear viscous damper along a link's two ends (or its body and anchor). */
+typedef struct edmi_damper {
+    int link;    /*!< the link whose ends it joins */
+    edmi_real c; /*!< damping coefficient >= 0 [M / T]: force = c * relative speed along the link */
+} edmi_damper;
+
 /** A system: bodies, links, parameters and time. Caller-owned; initialise with edmi_init(). */
 typedef struct edmi_system {
     int n_bodies;
@@ -217,6 +231,14 @@ typedef struct edmi_system {
     edmi_params params;
     edmi_body body[EDMI_MAX_BODIES];
     edmi_link link[EDMI_MAX_LINKS];
+    /* Effects beyond links; each is a list, so an absent effect costs nothing in a step. */
+    int has_field;                       /*!< uniform field set by edmi_set_field() */
+    edmi_real g[3];                      /*!< field acceleration: force m g on every body [L/T^2] */
+    int n_dampers;
+    edmi_damper damper[EDMI_MAX_DAMPERS];
+    int n_forced;                        /*!< bodies with an external force port set */
+    int forced[EDMI_MAX_BODIES];         /*!< their indices */
+    edmi_real force[EDMI_MAX_BODIES][3]; /*!< port force per body (row forced[i] in use) [M L/T^2] */
 } edmi_system;
 
 /** Per-link scratch: the start-of-step quantities a link's force needs, computed once per
@@ -230,6 +252,7 @@ typedef struct edmi_link_ws {
     edmi_real d3p0;  /* V_+'''(d_n) */
     edmi_real d3m0;  /* V_-'''(d_n) */
     edmi_real dv0_err; /* round-off of V'(d_n), for the stopping test */
+    edmi_real beta;    /* beta of the last residual evaluation (energy balance) */
     edmi_real k[9];  /* tangent block d f / d r_{n+1}, row-major */
 } edmi_link_ws;
 
@@ -248,6 +271,7 @@ typedef struct edmi_workspace {
     edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
     int piv[3 * EDMI_MAX_BODIES];
     edmi_link_ws lw[EDMI_MAX_LINKS];
+    edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
 } edmi_workspace;
 
 /** Why Newton stopped (a successful step). */
@@ -269,13 +293,20 @@ typedef struct edmi_step_result {
     edmi_real floor;     /*!< round-off floor of the final scaled residual, estimated from the
                               magnitudes entering it (incl. the LG quotient's cancellation) */
     int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
+    /* The discrete energy balance H_n+1 - H_n = work_ext - diss_scheme - diss_damping, exact
+     * up to the Newton residual: */
+    edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n) */
+    edmi_real diss_damping; /*!< energy the dampers removed (>= 0) */
+    edmi_real diss_scheme;  /*!< energy the scheme removed: sum over links of (work of the
+                                 algorithmic force) - (V(d_n+1) - V(d_n)); >= 0 for GE/PM/PT,
+                                 ~0 for LG, either sign for MP. Only with energy_balance. */
 } edmi_step_result;
 
 /** Invariants of a state (section 2 and 4.1 of the paper). */
 typedef struct edmi_invariants {
     edmi_real h;    /*!< Hamiltonian H = K + V */
     edmi_real k;    /*!< kinetic energy K */
-    edmi_real v;    /*!< potential energy V (sum over links) */
+    edmi_real v;    /*!< potential energy V (sum over links, plus -sum m g.q with a field) */
     edmi_real j[3]; /*!< angular momentum J = sum q x p (about the origin) */
     edmi_real l[3]; /*!< linear momentum L = sum p */
     edmi_real c[3]; /*!< centre-of-mass invariant C(t) = (sum m q - t L) / sum m */
@@ -318,6 +349,21 @@ edmi_status edmi_add_pair(edmi_system *sys, int a, int b, const edmi_potential *
  *          EDMI_ERR_CAPACITY */
 edmi_status edmi_add_anchor(edmi_system *sys, int a, const edmi_real x[3],
                             const edmi_potential *pot, int *index);
+
+/** \brief Set a uniform field: every body feels the constant force m g (adds V = -sum m g.q).
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE */
+edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3]);
+
+/** \brief Put a linear viscous damper on a link: it pushes the link's ends apart or together
+ *  with c times their relative speed along the link (dissipative, conserves L, J and C).
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link), EDMI_ERR_PARAM (c < 0 or
+ *          not finite), EDMI_ERR_CAPACITY */
+edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index);
+
+/** \brief Set body a's external force port; the force is held constant over each step until
+ *  set again (its work F . (q_n+1 - q_n) is reported in edmi_step_result.work_ext).
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_NONFINITE */
+edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3]);
 
 /** \brief Potential constructors (no validation here; edmi_add_pair/anchor validate). */
 edmi_potential edmi_pot_harmonic(edmi_real k, edmi_real r0);
