@@ -1469,6 +1469,64 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
     return EDMI_OK;
 }
 
+edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
+{
+    edmi_params p;
+    int i;
+    if (!sys || !scene || (scene->n_bodies > 0 && !scene->bodies) ||
+        (scene->n_links > 0 && !scene->links) || (scene->n_dampers > 0 && !scene->dampers))
+        return EDMI_ERR_NULL;
+    p = scene->params ? *scene->params : edmi_default_params();
+    if (scene->n_bodies < 0 || scene->n_bodies > EDMI_MAX_BODIES || scene->n_links < 0 ||
+        scene->n_links > EDMI_MAX_LINKS || scene->n_dampers < 0 ||
+        scene->n_dampers > EDMI_MAX_DAMPERS)
+        return EDMI_ERR_CAPACITY;
+    if (!edmi__params_valid(&p))
+        return EDMI_ERR_PARAM;
+    if (scene->has_field && !edmi__finite3(scene->g))
+        return EDMI_ERR_NONFINITE;
+    for (i = 0; i < scene->n_bodies; i++) {
+        const edmi_body *bd = &scene->bodies[i];
+        if (!edmi__finite(bd->m) || !(bd->m > EDMI__ZERO))
+            return EDMI_ERR_MASS;
+        if (!edmi__finite3(bd->q) || !edmi__finite3(bd->p))
+            return EDMI_ERR_NONFINITE;
+    }
+    for (i = 0; i < scene->n_links; i++) {
+        const edmi_link *lk = &scene->links[i];
+        if (lk->a < 0 || lk->a >= scene->n_bodies ||
+            (lk->b != EDMI_ANCHOR && (lk->b < 0 || lk->b >= scene->n_bodies || lk->b == lk->a)))
+            return EDMI_ERR_INDEX;
+        if (!edmi__pot_valid(&lk->pot))
+            return EDMI_ERR_PARAM;
+        if (!edmi__finite3(lk->anchor))
+            return EDMI_ERR_NONFINITE;
+    }
+    for (i = 0; i < scene->n_dampers; i++) {
+        const edmi_damper *d = &scene->dampers[i];
+        if (d->link < 0 || d->link >= scene->n_links)
+            return EDMI_ERR_INDEX;
+        if (!edmi__finite(d->c) || d->c < EDMI__ZERO)
+            return EDMI_ERR_PARAM;
+    }
+    /* validated: now replace */
+    (void)edmi_init(sys, &p);
+    for (i = 0; i < scene->n_bodies; i++)
+        sys->body[i] = scene->bodies[i];
+    for (i = 0; i < scene->n_links; i++)
+        sys->link[i] = scene->links[i];
+    for (i = 0; i < scene->n_dampers; i++)
+        sys->damper[i] = scene->dampers[i];
+    sys->n_bodies = scene->n_bodies;
+    sys->n_links = scene->n_links;
+    sys->n_dampers = scene->n_dampers;
+    if (scene->has_field) {
+        sys->has_field = 1;
+        edmi__copy3(scene->g, sys->g);
+    }
+    return EDMI_OK;
+}
+
 static edmi_potential edmi__pot(edmi_pot_kind kind, edmi_real a, edmi_real b)
 {
     edmi_potential p;

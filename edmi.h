@@ -256,6 +256,20 @@ typedef struct edmi_link_ws {
     edmi_real k[9];  /* tangent block d f / d r_{n+1}, row-major */
 } edmi_link_ws;
 
+/** A scene as plain constant data (it can live in flash): the bodies, links and dampers
+ *  a system starts from, its field and parameters. Load it with edmi_load_scene(). */
+typedef struct edmi_scene {
+    int n_bodies;
+    const edmi_body *bodies;     /*!< n_bodies initial states */
+    int n_links;
+    const edmi_link *links;      /*!< n_links links (anchor links have b == EDMI_ANCHOR) */
+    int n_dampers;
+    const edmi_damper *dampers;  /*!< n_dampers dampers (may be NULL when 0) */
+    int has_field;               /*!< non-zero: uniform field g */
+    edmi_real g[3];              /*!< field acceleration [L/T^2] */
+    const edmi_params *params;   /*!< parameters, or NULL for edmi_default_params() */
+} edmi_scene;
+
 /** Newton scratch space. Caller-owned, contents meaningless between calls; one workspace may
  *  serve several systems stepped one after another. */
 typedef struct edmi_workspace {
@@ -364,6 +378,12 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
  *  set again (its work F . (q_n+1 - q_n) is reported in edmi_step_result.work_ext).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_NONFINITE */
 edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3]);
+
+/** \brief Replace the system by a scene (t = 0, no force ports). Everything is validated
+ *  first: on any error the system is unchanged.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_CAPACITY, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
+ *          EDMI_ERR_INDEX, EDMI_ERR_PARAM */
+edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene);
 
 /** \brief Potential constructors (no validation here; edmi_add_pair/anchor validate). */
 edmi_potential edmi_pot_harmonic(edmi_real k, edmi_real r0);
