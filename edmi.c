@@ -970,10 +970,10 @@ static int edmi__params_valid(const edmi_params *p)
            p->l_max >= 1;
 }
 
-static int edmi__link_valid(const edmi_system *sys, const edmi_link *lk)
+/* Body a exists; b is an anchor or another existing body. */
+static int edmi__link_ends_valid(int n_bodies, int a, int b)
 {
-    return lk->a >= 0 && lk->a < sys->n_bodies &&
-           (lk->b == EDMI_ANCHOR || (lk->b >= 0 && lk->b < sys->n_bodies && lk->b != lk->a));
+    return a >= 0 && a < n_bodies && (b == EDMI_ANCHOR || (b >= 0 && b < n_bodies && b != a));
 }
 
 /* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
@@ -1024,7 +1024,7 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
     }
     for (i = 0; i < sys->n_links; i++) {
         const edmi_link *lk = &sys->link[i];
-        if (!edmi__link_valid(sys, lk))
+        if (!edmi__link_ends_valid(sys->n_bodies, lk->a, lk->b))
             return EDMI_ERR_INDEX;
         if (!edmi__pot_valid(&lk->pot))
             return EDMI_ERR_PARAM;
@@ -1380,27 +1380,37 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
     return EDMI_OK;
 }
 
+/* Write a link field by field into zeroed storage: never copy a caller's padding bytes, so
+ * that equal systems compare equal with memcmp (edmi_init zeroes every byte). */
+static void edmi__write_link(edmi_link *dst, int a, int b, const edmi_real x[3],
+                             const edmi_potential *pot)
+{
+    dst->a = a;
+    dst->b = b;
+    edmi__copy3(x, dst->anchor);
+    dst->pot.kind = pot->kind;
+    dst->pot.a = pot->a;
+    dst->pot.b = pot->b;
+    dst->pot.fn = pot->fn;
+    dst->pot.dd = pot->dd;
+    dst->pot.ctx = pot->ctx;
+}
+
 static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_real x[3],
                                   const edmi_potential *pot, int *index)
 {
-    edmi_link lk;
+    static const edmi_real origin[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
     if (!sys || !pot || (b == EDMI_ANCHOR && !x))
         return EDMI_ERR_NULL;
-    lk.a = a;
-    lk.b = b;
-    lk.anchor[0] = lk.anchor[1] = lk.anchor[2] = EDMI__ZERO;
-    if (x)
-        edmi__copy3(x, lk.anchor);
-    lk.pot = *pot;
-    if (!edmi__link_valid(sys, &lk))
+    if (!edmi__link_ends_valid(sys->n_bodies, a, b))
         return EDMI_ERR_INDEX;
     if (!edmi__pot_valid(pot))
         return EDMI_ERR_PARAM;
-    if (!edmi__finite3(lk.anchor))
+    if (x && !edmi__finite3(x))
         return EDMI_ERR_NONFINITE;
     if (sys->n_links >= EDMI_MAX_LINKS)
         return EDMI_ERR_CAPACITY;
-    sys->link[sys->n_links] = lk;
+    edmi__write_link(&sys->link[sys->n_links], a, b, x ? x : origin, pot);
     if (index)
         *index = sys->n_links;
     sys->n_links++;
@@ -1494,8 +1504,7 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
     }
     for (i = 0; i < scene->n_links; i++) {
         const edmi_link *lk = &scene->links[i];
-        if (lk->a < 0 || lk->a >= scene->n_bodies ||
-            (lk->b != EDMI_ANCHOR && (lk->b < 0 || lk->b >= scene->n_bodies || lk->b == lk->a)))
+        if (!edmi__link_ends_valid(scene->n_bodies, lk->a, lk->b))
             return EDMI_ERR_INDEX;
         if (!edmi__pot_valid(&lk->pot))
             return EDMI_ERR_PARAM;
@@ -1511,12 +1520,20 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
     }
     /* validated: now replace */
     (void)edmi_init(sys, &p);
-    for (i = 0; i < scene->n_bodies; i++)
-        sys->body[i] = scene->bodies[i];
-    for (i = 0; i < scene->n_links; i++)
-        sys->link[i] = scene->links[i];
-    for (i = 0; i < scene->n_dampers; i++)
-        sys->damper[i] = scene->dampers[i];
+    for (i = 0; i < scene->n_bodies; i++) {
+        const edmi_body *bd = &scene->bodies[i];
+        sys->body[i].m = bd->m;
+        edmi__copy3(bd->q, sys->body[i].q);
+        edmi__copy3(bd->p, sys->body[i].p);
+    }
+    for (i = 0; i < scene->n_links; i++) {
+        const edmi_link *lk = &scene->links[i];
+        edmi__write_link(&sys->link[i], lk->a, lk->b, lk->anchor, &lk->pot);
+    }
+    for (i = 0; i < scene->n_dampers; i++) {
+        sys->damper[i].link = scene->dampers[i].link;
+        sys->damper[i].c = scene->dampers[i].c;
+    }
     sys->n_bodies = scene->n_bodies;
     sys->n_links = scene->n_links;
     sys->n_dampers = scene->n_dampers;

@@ -10,5 +10,6 @@ void suite_orders(void);     /* test_orders.c: observed convergence orders */
 void suite_paper(void);      /* test_paper.c: the paper's H0, J0 and accuracy table */
 void suite_hard(void);       /* test_hard.c: circular orbit, LG switch, near-collision, stiff */
 void suite_solver(void);     /* test_solver.c: banded solve vs body numbering, bit-reproducible */
+void suite_effects(void);    /* test_effects.c: field, dampers, ports, energy balance, scenes */
 
 #endif

@@ -14,5 +14,6 @@ int main(void)
     suite_paper();
     suite_hard();
     suite_solver();
+    suite_effects();
     return th_finish() == 0 ? 0 : 1;
 }
