@@ -32,21 +32,21 @@
 #define EDMI_REAL double
 #endif
 
-/** Bodies per system. Costs 7 reals per body in edmi_system and
- *  9*EDMI_MAX_BODIES^2 + 21*EDMI_MAX_BODIES reals (+ 3*EDMI_MAX_BODIES ints) in edmi_workspace:
- *  the Newton matrix is stored dense, but only its band is touched (see README, "solver"). */
+/** Bodies per system. Costs 10 reals + 1 int per body in edmi_system (state and force port)
+ *  and 9*EDMI_MAX_BODIES^2 + 19*EDMI_MAX_BODIES reals in edmi_workspace: the Newton matrix
+ *  is stored dense, but only its band is touched (see README, "solver"). */
 #ifndef EDMI_MAX_BODIES
 #define EDMI_MAX_BODIES 16
 #endif
 
-/** Links (pair or anchor) per system. Costs one edmi_link in edmi_system and 18 reals in
- *  edmi_workspace per link. */
+/** Links (pair or anchor) per system. Costs one edmi_link (2 ints, 5 reals, an enum and 3
+ *  pointers, plus padding) in edmi_system and 20 reals in edmi_workspace per link. */
 #ifndef EDMI_MAX_LINKS
 #define EDMI_MAX_LINKS 64
 #endif
 
-/** Viscous dampers per system (each acts along one link). Costs 2 words in edmi_system and
- *  9 reals in edmi_workspace per damper. */
+/** Viscous dampers per system (each acts along one link). Costs an int and a real in
+ *  edmi_system and 9 reals in edmi_workspace per damper. */
 #ifndef EDMI_MAX_DAMPERS
 #define EDMI_MAX_DAMPERS 16
 #endif
@@ -283,7 +283,6 @@ typedef struct edmi_workspace {
     edmi_real np[EDMI_MAX_BODIES];    /* round-off floor estimate of |R_p| */
     edmi_real rhs[3 * EDMI_MAX_BODIES];
     edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
-    int piv[3 * EDMI_MAX_BODIES];
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
 } edmi_workspace;

@@ -2,4 +2,10 @@
 #include <stdio.h>
 #include "harness.h"
 
-void th_putchar(int c) { putchar(c); }
+/* Line-flushed, so a sanitizer abort does not swallow the lines before it. */
+void th_putchar(int c)
+{
+    putchar(c);
+    if (c == '\n')
+        fflush(stdout);
+}

@@ -1,0 +1,103 @@
+# edmi build.
+#   make            library object and examples, in EDMI_REAL precision, into $(BUILD)/$(EDMI_REAL)/
+#   make run        the paper's stiff neo-Hookean spring (examples/paper_spring.c)
+#   make test       the test suite in four configurations + library checks; last line is the total
+#   make cross      the library for a Cortex-M4F (float), its size, and its external references
+#   make clean
+# Override on the command line: make CC=clang CFLAGS='-O3' EDMI_REAL=float BUILD=out
+
+CC ?= cc
+CXX ?= g++
+NM ?= nm
+EDMI_REAL ?= double
+BUILD ?= build
+CFLAGS ?= -O2 -g
+LDLIBS ?= -lm
+
+# Always on, whatever CFLAGS says. -ffp-contract=off: no FMA contraction, so results are
+# bit-reproducible across compilers and targets. -fno-math-errno: the sqrt builtin is one
+# instruction. No -ffast-math anywhere.
+STRICT := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wdouble-promotion -Wconversion \
+          -ffp-contract=off -fno-math-errno
+# The library itself must be warnings-clean; tests and examples only have to build.
+LIBFLAGS := $(STRICT) -Werror
+SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -O1
+
+ARM_CC ?= arm-none-eabi-gcc
+ARM_NM ?= arm-none-eabi-nm
+ARM_SIZE ?= arm-none-eabi-size
+ARM_TARGET := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
+
+.PHONY: all run test cross clean
+
+# ---- host: library and examples ------------------------------------------------------------
+HOST := $(BUILD)/$(EDMI_REAL)
+EXAMPLES := $(patsubst examples/%.c,$(HOST)/%,$(wildcard examples/*.c))
+
+all: $(HOST)/edmi.o $(EXAMPLES)
+
+$(HOST)/edmi.o: edmi.c edmi.h | $(HOST)
+	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -c edmi.c -o $@
+
+$(HOST)/%: examples/%.c $(HOST)/edmi.o edmi.h | $(HOST)
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/edmi.o -o $@ $(LDLIBS)
+
+run: $(HOST)/paper_spring
+	$(HOST)/paper_spring
+
+# ---- tests: the same sources in four configurations ------------------------------------------
+# tests/test_main.c is matched by test_*.c too; $(sort) removes the duplicate.
+TEST_SRC := $(sort tests/harness.c tests/host_io.c $(wildcard tests/test_*.c tests/scenes.c))
+TEST_HDR := $(wildcard tests/*.h)
+CONFIGS := double float double-san float-san
+real_of = $(firstword $(subst -, ,$(1)))
+flags_of = $(CFLAGS) $(if $(findstring -san,$(1)),$(SAN))
+
+# $(1) = configuration: objects and the binary $(BUILD)/test-$(1)/edmi_tests
+define test_config
+$(BUILD)/test-$(1)/edmi.o: edmi.c edmi.h | $(BUILD)/test-$(1)
+	$$(CC) $$(LIBFLAGS) $(call flags_of,$(1)) -DEDMI_REAL=$(call real_of,$(1)) -c $$< -o $$@
+$(BUILD)/test-$(1)/%.o: tests/%.c edmi.h $$(TEST_HDR) | $(BUILD)/test-$(1)
+	$$(CC) $$(STRICT) $(call flags_of,$(1)) -DEDMI_REAL=$(call real_of,$(1)) -c $$< -o $$@
+$(BUILD)/test-$(1)/edmi_tests: $(BUILD)/test-$(1)/edmi.o \
+		$(patsubst tests/%.c,$(BUILD)/test-$(1)/%.o,$(TEST_SRC))
+	$$(CC) $(call flags_of,$(1)) $$^ -o $$@ $$(LDLIBS)
+endef
+$(foreach c,$(CONFIGS),$(eval $(call test_config,$(c))))
+
+# Library checks: freestanding -Werror build in both precisions, symbol prefix and external
+# references (tests/check_lib.sh), and the header used from C++ (tests/cxx_header.cpp).
+CHECK := $(BUILD)/check
+$(CHECK)/edmi-%.o: edmi.c edmi.h | $(CHECK)
+	$(CC) $(LIBFLAGS) -ffreestanding $(CFLAGS) -DEDMI_REAL=$* -c $< -o $@
+$(CHECK)/cxx_header-%.o: tests/cxx_header.cpp edmi.h | $(CHECK)
+	$(CXX) -std=c++11 -Wall -Wextra -Werror -DEDMI_REAL=$* -c $< -o $@
+$(CHECK)/cxx_header-%: $(CHECK)/cxx_header-%.o $(CHECK)/edmi-%.o
+	$(CXX) $^ -o $@
+.SECONDARY: $(CHECK)/cxx_header-double.o $(CHECK)/cxx_header-float.o
+
+TEST_BINS := $(foreach c,$(CONFIGS),$(BUILD)/test-$(c)/edmi_tests)
+CXX_BINS := $(CHECK)/cxx_header-double $(CHECK)/cxx_header-float
+CHECK_OBJS := $(CHECK)/edmi-double.o $(CHECK)/edmi-float.o \
+              $(BUILD)/test-double/edmi.o $(BUILD)/test-float/edmi.o
+
+# Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
+test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS)
+	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
+	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) \
+	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)')
+
+# ---- cross: Cortex-M4F, single precision, no double maths ------------------------------------
+$(BUILD)/cross/edmi.o: edmi.c edmi.h | $(BUILD)/cross
+	$(ARM_CC) $(LIBFLAGS) $(ARM_TARGET) -Os -ffreestanding -DEDMI_REAL=float -c $< -o $@
+
+cross: $(BUILD)/cross/edmi.o
+	$(ARM_SIZE) $<
+	bash tests/check_lib.sh "$(ARM_NM)" "$(ARM_CC) $(ARM_TARGET)" $< --no-double
+
+# ---- housekeeping ----------------------------------------------------------------------------
+$(HOST) $(CHECK) $(BUILD)/cross $(foreach c,$(CONFIGS),$(BUILD)/test-$(c)):
+	mkdir -p $@
+
+clean:
+	rm -rf $(BUILD)
