@@ -15,6 +15,9 @@
 #define EDMI__ONE EDMI_R(1.0)
 #define EDMI__HALF EDMI_R(0.5)
 
+/* At most this many halvings of a Newton correction that left the domain (down to 1/256). */
+#define EDMI__MAX_HALVINGS 8
+
 /* Newton accepts a residual within this factor of its estimated round-off floor. */
 #define EDMI__FLOOR_FACTOR EDMI_R(8.0)
 
@@ -873,7 +876,7 @@ static edmi_status edmi__solve_band(edmi_real *g, edmi_real *rhs, int n, int kb)
     return EDMI_OK;
 }
 
-/* One Newton correction: solve for dq, recover dp = 2m/dt (R_q + dq), update (q1, p1). */
+/* One Newton correction: solve for dq (into work->rhs), recover dp = 2m/dt (R_q + dq). */
 static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *work,
                                        edmi_real dt)
 {
@@ -912,13 +915,21 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
     }
     for (a = 0; a < nb; a++) {
         edmi_real c = EDMI_R(2.0) * sys->body[a].m / dt;
-        for (i = 0; i < 3; i++) {
-            edmi_real dq = work->rhs[3 * a + i];
-            work->q1[a][i] += dq;
-            work->p1[a][i] += c * (work->rq[a][i] + dq);
-        }
+        for (i = 0; i < 3; i++)
+            work->dp[a][i] = c * (work->rq[a][i] + work->rhs[3 * a + i]);
     }
     return EDMI_OK;
+}
+
+/* Move the iterate by lambda times the Newton correction (dq in work->rhs, dp in work->dp). */
+static void edmi__move(const edmi_system *sys, edmi_workspace *work, edmi_real lambda)
+{
+    int a, i;
+    for (a = 0; a < sys->n_bodies; a++)
+        for (i = 0; i < 3; i++) {
+            work->q1[a][i] += lambda * work->rhs[3 * a + i];
+            work->p1[a][i] += lambda * work->dp[a][i];
+        }
 }
 
 /* ==========================================================================================
@@ -956,6 +967,39 @@ static edmi_real edmi__scaled_residual(const edmi_system *sys, const edmi_worksp
     }
     *floor = f;
     return r;
+}
+
+/* Residual, tangent, scaled residual and floor at the current iterate. */
+static edmi_status edmi__evaluate(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                  edmi_real *r, edmi_step_result *res)
+{
+    edmi_status st = edmi__residual(sys, work, dt, (const edmi_real (*)[3])work->q1,
+                                    (const edmi_real (*)[3])work->p1, work->rq, work->rp,
+                                    &res->lg_switches);
+    if (st == EDMI_OK)
+        *r = edmi__scaled_residual(sys, work, &res->floor);
+    return st;
+}
+
+/* Take the Newton correction; halve it while the trial leaves the potentials' domain (a link
+ * distance of 0 or a non-finite residual, e.g. a near-collision overshoot). No descent test:
+ * at omega dt >> 1 plain Newton reaches the solution along a non-monotone path that a
+ * monotone line search blocks (measured on the paper's spring at dt = 0.5). */
+static edmi_status edmi__line_search(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                     edmi_real *r, edmi_step_result *res)
+{
+    edmi_real lambda = EDMI__ONE;
+    edmi_status st;
+    int h;
+    edmi__move(sys, work, lambda);
+    st = edmi__evaluate(sys, work, dt, r, res);
+    for (h = 0; h < EDMI__MAX_HALVINGS && st == EDMI_ERR_DIVERGED; h++) {
+        lambda *= EDMI__HALF;
+        edmi__move(sys, work, -lambda);
+        st = edmi__evaluate(sys, work, dt, r, res);
+        res->halvings++;
+    }
+    return st;
 }
 
 static int edmi__params_valid(const edmi_params *p)
@@ -1086,6 +1130,7 @@ static void edmi__clear_result(edmi_step_result *res)
     res->residual0 = EDMI__ZERO;
     res->floor = EDMI__ZERO;
     res->lg_switches = 0;
+    res->halvings = 0;
     res->work_ext = EDMI__ZERO;
     res->diss_damping = EDMI__ZERO;
     res->diss_scheme = EDMI__ZERO;
@@ -1098,7 +1143,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     const edmi_params *prm;
     edmi_real r, rprev;
     edmi_status st;
-    int a, l;
+    int a, l, halvings_before;
     if (!res)
         res = &local;
     edmi__clear_result(res);
@@ -1117,12 +1162,11 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
         edmi__copy3(sys->body[a].q, work->q1[a]);
         edmi__copy3(sys->body[a].p, work->p1[a]);
     }
-    st = edmi__residual(sys, work, dt, (const edmi_real (*)[3])work->q1,
-                        (const edmi_real (*)[3])work->p1, work->rq, work->rp, &res->lg_switches);
+    st = edmi__evaluate(sys, work, dt, &r, res);
     if (st != EDMI_OK)
         return st;
-    edmi__set_scales(sys, work, dt);
-    r = edmi__scaled_residual(sys, work, &res->floor);
+    edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
+    r = edmi__scaled_residual(sys, work, &res->floor); /* so measure again with them */
     res->residual0 = r;
     res->residual = r;
 
@@ -1132,13 +1176,11 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
             st = edmi__newton_update(sys, work, dt);
             if (st != EDMI_OK)
                 return st;
-            st = edmi__residual(sys, work, dt, (const edmi_real (*)[3])work->q1,
-                                (const edmi_real (*)[3])work->p1, work->rq, work->rp,
-                                &res->lg_switches);
+            rprev = r;
+            halvings_before = res->halvings;
+            st = edmi__line_search(sys, work, dt, &r, res);
             if (st != EDMI_OK)
                 return st;
-            rprev = r;
-            r = edmi__scaled_residual(sys, work, &res->floor);
             res->iterations = l;
             res->residual = r;
             if (r <= prm->tol_r * res->residual0) {
@@ -1153,12 +1195,14 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
              * contracting (cancellation inside a potential, e.g. r^2 - L^2 near the rest
              * length, is not in the estimate). */
             if (r <= EDMI__FLOOR_FACTOR * res->floor ||
-                (l >= 2 && rprev <= EDMI__SQRT_EPS * res->residual0 && r > EDMI__HALF * rprev)) {
+                (l >= 2 && rprev <= EDMI__SQRT_EPS * res->residual0 &&
+                 r <= EDMI__SQRT_EPS * res->residual0 && r > EDMI__HALF * rprev)) {
                 res->stop = EDMI_STOP_STALLED;
                 break;
             }
-            if (l >= prm->l_max)
-                return EDMI_ERR_NO_CONVERGENCE;
+            if (l >= prm->l_max) /* still pushed out of the domain, or just slow */
+                return res->halvings > halvings_before ? EDMI_ERR_DIVERGED
+                                                       : EDMI_ERR_NO_CONVERGENCE;
         }
     } else {
         res->stop = EDMI_STOP_TOL_A;

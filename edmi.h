@@ -33,7 +33,7 @@
 #endif
 
 /** Bodies per system. Costs 10 reals + 1 int per body in edmi_system (state and force port)
- *  and 9*EDMI_MAX_BODIES^2 + 19*EDMI_MAX_BODIES reals in edmi_workspace: the Newton matrix
+ *  and 9*EDMI_MAX_BODIES^2 + 22*EDMI_MAX_BODIES reals in edmi_workspace: the Newton matrix
  *  is stored dense, but only its band is touched (see README, "solver"). */
 #ifndef EDMI_MAX_BODIES
 #define EDMI_MAX_BODIES 16
@@ -112,7 +112,9 @@ typedef enum edmi_status {
     EDMI_ERR_COINCIDENT,     /*!< two linked bodies (or a body and its anchor) at distance 0 */
     EDMI_ERR_SINGULAR,       /*!< the Newton matrix is singular to working precision */
     EDMI_ERR_NO_CONVERGENCE, /*!< Newton did not meet tol_R/tol_A within l_max iterations */
-    EDMI_ERR_DIVERGED        /*!< a Newton iterate became non-finite or made a distance 0 */
+    EDMI_ERR_DIVERGED        /*!< Newton left the potentials' domain (a distance 0, a
+                                  non-finite value, a user callback refusing) and halving the
+                                  correction did not bring it back within l_max iterations */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */
@@ -281,7 +283,8 @@ typedef struct edmi_workspace {
     edmi_real sp[EDMI_MAX_BODIES];    /* per-body momentum scale of the stopping test */
     edmi_real nq[EDMI_MAX_BODIES];    /* round-off floor estimate of |R_q| */
     edmi_real np[EDMI_MAX_BODIES];    /* round-off floor estimate of |R_p| */
-    edmi_real rhs[3 * EDMI_MAX_BODIES];
+    edmi_real dp[EDMI_MAX_BODIES][3]; /* Newton correction of p */
+    edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
     edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
@@ -293,7 +296,8 @@ typedef enum edmi_stop {
     EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a */
     EDMI_STOP_STALLED    /*!< residual reached its round-off floor: <= 8 x the estimated floor
                               (edmi_step_result.floor), or it stopped halving after Newton's
-                              quadratic regime (previous residual <= sqrt(eps) x residual0) */
+                              quadratic regime (this and the previous residual both
+                              <= sqrt(eps) x residual0) */
 } edmi_stop;
 
 /** What one step did. Filled on success and on EDMI_ERR_SINGULAR / NO_CONVERGENCE /
@@ -306,6 +310,8 @@ typedef struct edmi_step_result {
     edmi_real floor;     /*!< round-off floor of the final scaled residual, estimated from the
                               magnitudes entering it (incl. the LG quotient's cancellation) */
     int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
+    int halvings;        /*!< halvings of Newton corrections that left the potentials' domain
+                              (a link distance 0 or a non-finite residual) */
     /* The discrete energy balance H_n+1 - H_n = work_ext - diss_scheme - diss_damping, exact
      * up to the Newton residual: */
     edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n) */
@@ -401,8 +407,8 @@ edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
  *  \param[in,out] sys the system; \param[out] work scratch space; \param[in] dt > 0
  *  \param[out] res what the step did, or NULL
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
- *          EDMI_ERR_INDEX, EDMI_ERR_PARAM, EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR,
- *          EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED */
+ *          EDMI_ERR_CAPACITY (corrupted counts), EDMI_ERR_INDEX, EDMI_ERR_PARAM,
+ *          EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR, EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED */
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res);
 
