@@ -101,3 +101,4 @@ $(HOST) $(CHECK) $(BUILD)/cross $(foreach c,$(CONFIGS),$(BUILD)/test-$(c)):
 
 clean:
 	rm -rf $(BUILD)
+include port/target.mk

@@ -1,0 +1,121 @@
+/* ramcheck: the RAM formula of README.md ("Sizing") against sizeof (`make check-ram`).
+ *
+ * Built once per (EDMI_REAL, EDMI_MAX_BODIES, EDMI_MAX_LINKS, EDMI_MAX_DAMPERS) setting. The
+ * formula is checked twice: at compile time (a negative array size stops the build, so a
+ * cross compile of this file checks a target's ABI without running anything) and at run
+ * time on the host (printing both sides and closing with "N passed, N failed").
+ * -DTGT_RAMCHECK_NO_MAIN: the compile-time checks only. -DTGT_RAMCHECK_SIZES_ONLY: no checks,
+ * only the two arrays below, whose symbol sizes `make cross` reads with nm -S.
+ *
+ * Derivation from the struct definitions in edmi.h, with R = sizeof(edmi_real),
+ * P = sizeof(void *), E = sizeof(an enum), N = EDMI_MAX_BODIES, L = EDMI_MAX_LINKS,
+ * D = EDMI_MAX_DAMPERS, RP = max(R, P), and up(x, a) = x rounded up to a multiple of a.
+ * Assumptions: int is 4 bytes; edmi_real and pointers are aligned to their size (AAPCS Arm,
+ * RISC-V ilp32/lp64, x86-64, AArch64; not i386, where double is 4-aligned in structs); an
+ * enum is 4 bytes except on arm-none-eabi, whose GCC defaults to -fshort-enums (E = 1).
+ *   edmi_params    = up(up(3E, R) + 3R + 2*4, R)                 3 enums, 3 reals, 2 ints
+ *   edmi_potential = up(up(up(E, R) + 2R, P) + 3P, RP)           kind, a, b, fn, dd, ctx
+ *   edmi_link      = up(2*4 + 3R, RP) + edmi_potential           a, b, anchor[3], pot
+ *   edmi_body      = 7R                                          m, q[3], p[3]
+ *   edmi_damper    = up(4, R) + R                                link, c
+ *   edmi_system, field by field:
+ *     s = up(2*4, R) + R + edmi_params + N*7R                    n_bodies, n_links, t, ...
+ *     s = up(s, RP) + L*edmi_link + 4                            link[L], has_field
+ *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
+ *     s = up(s, R) + D*edmi_damper + 4 + 4N                      damper[D], n_forced, forced[N]
+ *     s = up(s, R) + 3R*N                                        force[N][3]
+ *     sizeof(edmi_system) = up(s, RP)
+ *   edmi_link_ws   = 20R                                         r0[3], 8 scalars, k[9]
+ *   edmi_workspace = (9N^2 + 22N) R + L*20R + D*9R                all reals: no padding
+ * The 22N reals are q1, p1, rq, rp, dp (3 each), sq, sp, nq, np (1 each) and rhs (3); 9N^2
+ * is the Newton matrix; 9 reals per damper its tangent block. */
+#include "../edmi.h"
+
+#define TGT_UP(x, a) ((((x) + (a) - 1u) / (a)) * (a))
+#define TGT_MAX(a, b) ((a) > (b) ? (a) : (b))
+#define TGT_R ((unsigned long)sizeof(edmi_real))
+#define TGT_P ((unsigned long)sizeof(void *))
+#define TGT_E ((unsigned long)sizeof(edmi_scheme))
+#define TGT_N ((unsigned long)EDMI_MAX_BODIES)
+#define TGT_L ((unsigned long)EDMI_MAX_LINKS)
+#define TGT_D ((unsigned long)EDMI_MAX_DAMPERS)
+#define TGT_RP TGT_MAX(TGT_R, TGT_P)
+
+#define TGT_PARAMS TGT_UP(TGT_UP(3u * TGT_E, TGT_R) + 3u * TGT_R + 8u, TGT_R)
+#define TGT_POT TGT_UP(TGT_UP(TGT_UP(TGT_E, TGT_R) + 2u * TGT_R, TGT_P) + 3u * TGT_P, TGT_RP)
+#define TGT_LINK (TGT_UP(8u + 3u * TGT_R, TGT_RP) + TGT_POT)
+#define TGT_DAMPER (TGT_UP(4u, TGT_R) + TGT_R)
+#define TGT_S1 (TGT_UP(8u, TGT_R) + TGT_R + TGT_PARAMS + TGT_N * 7u * TGT_R)
+#define TGT_S2 (TGT_UP(TGT_S1, TGT_RP) + TGT_L * TGT_LINK + 4u)
+#define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
+#define TGT_S4 (TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
+#define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N)
+#define TGT_SYSTEM TGT_UP(TGT_S5, TGT_RP)
+#define TGT_WORKSPACE \
+    ((9u * TGT_N * TGT_N + 22u * TGT_N + 20u * TGT_L + 9u * TGT_D) * TGT_R)
+
+/* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
+ * K + 9R N^2 + b N + l L + d D + pad, pad = 4 bytes when N is even and R or P is 8 (the
+ * int array forced[N] before force[N][3]):
+ *   float:  K = 60 with 1-byte enums (arm-none-eabi), 68 with 4-byte ones; b = 132, d = 44;
+ *           l = 124 with 4-byte pointers, 144 with 8-byte ones
+ *   double: K = 100 with 1-byte enums, 108 with 4-byte ones; b = 260, d = 88;
+ *           l = 232 with 4-byte pointers, 240 with 8-byte ones */
+#define TGT_CLOSED_K ((TGT_R == 4u ? 60u : 100u) + (TGT_E == 4u ? 8u : 0u))
+#define TGT_CLOSED_B (TGT_R == 4u ? 132u : 260u)
+#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 124u : 232u) : (TGT_R == 4u ? 144u : 240u))
+#define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
+#define TGT_CLOSED_PAD (TGT_N % 2u == 0u && (TGT_R == 8u || TGT_P == 8u) ? 4u : 0u)
+#define TGT_CLOSED                                                                          \
+    (TGT_CLOSED_K + 9u * TGT_R * TGT_N * TGT_N + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L + \
+     TGT_CLOSED_D * TGT_D + TGT_CLOSED_PAD)
+#define TGT_TOTAL ((unsigned long)(sizeof(edmi_system) + sizeof(edmi_workspace)))
+
+#ifndef TGT_RAMCHECK_SIZES_ONLY
+/* The assumptions, then the formulas, checked by the compiler. */
+typedef char tgt_assume_int[sizeof(int) == 4 ? 1 : -1];
+typedef char tgt_assume_enum[TGT_E == 1u || TGT_E == 4u ? 1 : -1];
+typedef char tgt_assume_ptr[TGT_P == 4u || TGT_P == 8u ? 1 : -1];
+typedef char tgt_check_system[sizeof(edmi_system) == TGT_SYSTEM ? 1 : -1];
+typedef char tgt_check_workspace[sizeof(edmi_workspace) == TGT_WORKSPACE ? 1 : -1];
+typedef char tgt_check_closed[TGT_TOTAL == TGT_CLOSED ? 1 : -1];
+#endif
+
+/* The sizes as symbol sizes, for `nm -S` on a cross-compiled object (make cross). */
+char tgt_ram_system[sizeof(edmi_system)];
+char tgt_ram_workspace[sizeof(edmi_workspace)];
+
+#if !defined(TGT_RAMCHECK_NO_MAIN) && !defined(TGT_RAMCHECK_SIZES_ONLY)
+#include <stdio.h>
+
+static int n_pass, n_fail;
+
+static void check(const char *what, unsigned long got, unsigned long want)
+{
+    int ok = got == want;
+    if (ok)
+        n_pass++;
+    else
+        n_fail++;
+    printf("%s %-44s sizeof %7lu  formula %7lu\n", ok ? "ok  " : "FAIL", what, got, want);
+}
+
+int main(void)
+{
+    unsigned long n = TGT_N, l = TGT_L;
+    printf("EDMI_REAL=%s EDMI_MAX_BODIES=%lu EDMI_MAX_LINKS=%lu EDMI_MAX_DAMPERS=%lu "
+           "(R=%lu, P=%lu, E=%lu)\n",
+           TGT_R == 8u ? "double" : "float", n, l, TGT_D, TGT_R, TGT_P, TGT_E);
+    check("sizeof(edmi_params)", (unsigned long)sizeof(edmi_params), TGT_PARAMS);
+    check("sizeof(edmi_potential)", (unsigned long)sizeof(edmi_potential), TGT_POT);
+    check("sizeof(edmi_link)", (unsigned long)sizeof(edmi_link), TGT_LINK);
+    check("sizeof(edmi_body)", (unsigned long)sizeof(edmi_body), 7u * TGT_R);
+    check("sizeof(edmi_damper)", (unsigned long)sizeof(edmi_damper), TGT_DAMPER);
+    check("sizeof(edmi_link_ws)", (unsigned long)sizeof(edmi_link_ws), 20u * TGT_R);
+    check("sizeof(edmi_system)", (unsigned long)sizeof(edmi_system), TGT_SYSTEM);
+    check("sizeof(edmi_workspace)", (unsigned long)sizeof(edmi_workspace), TGT_WORKSPACE);
+    check("system + workspace (README closed form)", TGT_TOTAL, TGT_CLOSED);
+    printf("%d passed, %d failed\n", n_pass, n_fail);
+    return n_fail == 0 ? 0 : 1;
+}
+#endif

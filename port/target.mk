@@ -1,0 +1,267 @@
+# port/target.mk: cross builds, emulated-target tests and measurements.
+# Included at the end of the top-level Makefile with `include port/target.mk`; uses its
+# CC, STRICT, LIBFLAGS, BUILD, ARM_CC, ARM_NM, ARM_SIZE and defines only TGT_* names.
+#
+#   make cross          (adds to it) edmi.c for Cortex-M4F (float), Cortex-M7 (double),
+#                       Cortex-M0+ (soft float) and RISC-V rv32imac (-nostdlib): external-
+#                       reference checks, a link of port/fw_min.c that must leave nothing
+#                       undefined, the size table per target and the size per capacity setting
+#   make test-target    the unit test suite on QEMU mps2-an386 (Cortex-M4F, EDMI_REAL=float)
+#                       and mps2-an500 (Cortex-M7, double); last line "N passed, N failed"
+#   make bench-target   instructions and Newton iterations per step, stack high-water mark of
+#                       edmi_step, on QEMU with -icount shift=0 (port/bench_target.c)
+#   make check-ram      the RAM formula of README.md ("Sizing") against sizeof
+#   make check-port     check-ram, plus port/riscv/sqrt.c against the host's libm
+#   make smoke-target   the target runner itself: a pass, a failed check, a fault, a hang and
+#                       a stack overflow must give exit statuses 0, 1, 3, 124 and 4
+# Override: TGT_TIMEOUT (seconds per QEMU run, default 600), TGT_QEMU, TGT_RV_CC.
+
+TGT_SAVED_GOAL := $(.DEFAULT_GOAL)
+
+BUILD ?= build
+ARM_CC ?= arm-none-eabi-gcc
+ARM_NM ?= arm-none-eabi-nm
+ARM_SIZE ?= arm-none-eabi-size
+TGT_RV_CC ?= riscv64-unknown-elf-gcc
+TGT_RV_NM ?= riscv64-unknown-elf-nm
+TGT_RV_SIZE ?= riscv64-unknown-elf-size
+TGT_QEMU ?= qemu-system-arm
+TGT_TIMEOUT ?= 600
+
+TGT := $(BUILD)/target
+# The library as a firmware would build it; tests and benchmarks around it at -O2.
+TGT_LIB_OPT := -Os -ffreestanding
+TGT_APP_OPT := -O2 -g
+
+TGT_FLAGS_m4f := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
+TGT_FLAGS_m7 := -mcpu=cortex-m7 -mthumb -mfpu=fpv5-d16 -mfloat-abi=hard
+TGT_FLAGS_m0plus := -mcpu=cortex-m0plus -mthumb -mfloat-abi=soft
+TGT_FLAGS_rv32imac := -march=rv32imac -mabi=ilp32
+TGT_CC_m4f = $(ARM_CC)
+TGT_CC_m7 = $(ARM_CC)
+TGT_CC_m0plus = $(ARM_CC)
+TGT_CC_rv32imac = $(TGT_RV_CC)
+TGT_NM_m4f = $(ARM_NM)
+TGT_NM_m7 = $(ARM_NM)
+TGT_NM_m0plus = $(ARM_NM)
+TGT_NM_rv32imac = $(TGT_RV_NM)
+TGT_SIZE_m4f = $(ARM_SIZE)
+TGT_SIZE_m7 = $(ARM_SIZE)
+TGT_SIZE_m0plus = $(ARM_SIZE)
+TGT_SIZE_rv32imac = $(TGT_RV_SIZE)
+# What the minimal firmware links against: newlib and libgcc on the Arm cores (whatever of
+# them edmi.o needs: memcpy, sqrtf/sqrt and soft float on the M0+, possibly nothing); on
+# rv32imac with -nostdlib only libgcc and port/riscv (sqrtf/sqrt, mem*).
+TGT_FWLINK_m4f := -nostartfiles --specs=nano.specs
+TGT_FWLINK_m7 := -nostartfiles --specs=nano.specs
+TGT_FWLINK_m0plus := -nostartfiles --specs=nano.specs
+TGT_FWLINK_rv32imac := -nostdlib -Wl,--no-warn-rwx-segments
+TGT_FWLIBS_m4f := -lm -lc -lgcc
+TGT_FWLIBS_m7 := -lm -lc -lgcc
+TGT_FWLIBS_m0plus := -lm -lc -lgcc
+TGT_FWLIBS_rv32imac := -lgcc
+TGT_FWPORT_rv32imac = $(TGT)/port-rv32imac/sqrt.o $(TGT)/port-rv32imac/mem.o
+TGT_LABEL_m4f := Cortex-M4F, fpv4-sp-d16 hard-float
+TGT_LABEL_m7 := Cortex-M7, fpv5-d16 hard-float
+TGT_LABEL_m0plus := Cortex-M0+, soft float
+TGT_LABEL_rv32imac := RISC-V rv32imac ilp32, -nostdlib
+
+# Target-precision pairs of `make cross`: the four the issue names, then the soft-float cores
+# in the other precision for comparison.
+TGT_CROSS := m4f-float m7-double m0plus-float rv32imac-float m0plus-double rv32imac-double
+tgt_arch = $(firstword $(subst -, ,$(1)))
+tgt_real = $(lastword $(subst -, ,$(1)))
+# Float builds on every core must not contain double arithmetic.
+tgt_nodouble = $(if $(filter float,$(call tgt_real,$(1))),--no-double)
+
+# Capacity settings N-L-D (EDMI_MAX_BODIES, EDMI_MAX_LINKS, EDMI_MAX_DAMPERS); the last is
+# the default. Sizes shown for the M4F (float) and M7 (double).
+TGT_CAPS := 1-1-1 2-1-1 4-8-2 16-64-16
+TGT_CAP_TARGETS := m4f-float m7-double
+tgt_capdefs = -DEDMI_MAX_BODIES=$(word 1,$(subst -, ,$(1))) \
+              -DEDMI_MAX_LINKS=$(word 2,$(subst -, ,$(1))) \
+              -DEDMI_MAX_DAMPERS=$(word 3,$(subst -, ,$(1)))
+
+.PHONY: tgt-cross test-target bench-target check-ram check-sqrt check-port smoke-target
+cross: tgt-cross
+
+# ---- cross: one directory per target-precision pair -----------------------------------------
+# $(1) = pair, e.g. m4f-float
+define tgt_cross_rules
+$(TGT)/cross-$(1)/edmi.o: edmi.c edmi.h
+	@mkdir -p $$(@D)
+	$$(TGT_CC_$(call tgt_arch,$(1))) $$(LIBFLAGS) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
+	    $$(TGT_LIB_OPT) -DEDMI_REAL=$(call tgt_real,$(1)) -c $$< -o $$@
+$(TGT)/cross-$(1)/fw_min.o: port/fw_min.c edmi.h
+	@mkdir -p $$(@D)
+	$$(TGT_CC_$(call tgt_arch,$(1))) $$(LIBFLAGS) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
+	    $$(TGT_LIB_OPT) -DEDMI_REAL=$(call tgt_real,$(1)) -c $$< -o $$@
+$(TGT)/cross-$(1)/fw_min.elf: $(TGT)/cross-$(1)/fw_min.o $(TGT)/cross-$(1)/edmi.o \
+		$$(TGT_FWPORT_$(call tgt_arch,$(1)))
+	$$(TGT_CC_$(call tgt_arch,$(1))) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
+	    $$(TGT_FWLINK_$(call tgt_arch,$(1))) -Wl,-e,main -Wl,--gc-sections $$^ \
+	    $$(TGT_FWLIBS_$(call tgt_arch,$(1))) -o $$@
+endef
+$(foreach p,$(TGT_CROSS),$(eval $(call tgt_cross_rules,$(p))))
+
+# port/riscv: the square root and mem* for -nostdlib. -fno-builtin and
+# -fno-tree-loop-distribute-patterns stop GCC from turning the mem* loops into calls to
+# themselves.
+$(TGT)/port-rv32imac/%.o: port/riscv/%.c
+	@mkdir -p $(@D)
+	$(TGT_RV_CC) $(LIBFLAGS) $(TGT_FLAGS_rv32imac) -Os -ffreestanding -fno-builtin \
+	    -fno-tree-loop-distribute-patterns -c $< -o $@
+
+# $(1) = pair, $(2) = capacity N-L-D: edmi.o text and sizeof for the capacity table.
+define tgt_cap_rules
+$(TGT)/cap-$(1)/$(2)/edmi.o: edmi.c edmi.h
+	@mkdir -p $$(@D)
+	$$(TGT_CC_$(call tgt_arch,$(1))) $$(LIBFLAGS) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
+	    $$(TGT_LIB_OPT) -DEDMI_REAL=$(call tgt_real,$(1)) $(call tgt_capdefs,$(2)) -c $$< -o $$@
+$(TGT)/cap-$(1)/$(2)/ramsize.o: port/ramcheck.c edmi.h
+	@mkdir -p $$(@D)
+	$$(TGT_CC_$(call tgt_arch,$(1))) $$(STRICT) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
+	    -DTGT_RAMCHECK_SIZES_ONLY -DEDMI_REAL=$(call tgt_real,$(1)) $(call tgt_capdefs,$(2)) \
+	    -c $$< -o $$@
+endef
+$(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),$(eval $(call tgt_cap_rules,$(p),$(c)))))
+
+TGT_CROSS_OBJS := $(foreach p,$(TGT_CROSS),$(TGT)/cross-$(p)/edmi.o $(TGT)/cross-$(p)/fw_min.elf)
+TGT_CAP_OBJS := $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),\
+                    $(TGT)/cap-$(p)/$(c)/edmi.o $(TGT)/cap-$(p)/$(c)/ramsize.o))
+
+tgt-cross: $(TGT_CROSS_OBJS) $(TGT_CAP_OBJS)
+	@echo "### external references of edmi.o per target (tests/check_lib.sh)"
+	@bash tests/run_all.sh $(foreach p,$(TGT_CROSS),'bash tests/check_lib.sh \
+	    "$(TGT_NM_$(call tgt_arch,$(p)))" \
+	    "$(TGT_CC_$(call tgt_arch,$(p))) $(TGT_FLAGS_$(call tgt_arch,$(p)))" \
+	    $(TGT)/cross-$(p)/edmi.o $(call tgt_nodouble,$(p))')
+	@echo "### size per target: edmi.c at -Os (Berkeley size), and port/fw_min.c linked"
+	@bash port/size_table.sh targets $(foreach p,$(TGT_CROSS),\
+	    '$(TGT_LABEL_$(call tgt_arch,$(p))), $(call tgt_real,$(p))' \
+	    $(TGT_SIZE_$(call tgt_arch,$(p))) $(TGT_NM_$(call tgt_arch,$(p))) \
+	    $(TGT)/cross-$(p)/edmi.o $(TGT)/cross-$(p)/fw_min.elf)
+	@echo "### size per capacity setting: flash (edmi.o text) and RAM in bytes"
+	@bash port/size_table.sh capacity '$(TGT_CAPS)' $(foreach p,$(TGT_CAP_TARGETS),\
+	    '$(firstword $(subst $(TGT_COMMA), ,$(TGT_LABEL_$(call tgt_arch,$(p))))) $(call tgt_real,$(p))' \
+	    $(TGT_SIZE_$(call tgt_arch,$(p))) $(TGT_NM_$(call tgt_arch,$(p))) $(TGT)/cap-$(p))
+
+# ---- the emulated boards: start-up, semihosting, linker script --------------------------------
+TGT_BOARDS := an386 an500
+TGT_MACHINE_an386 := mps2-an386
+TGT_MACHINE_an500 := mps2-an500
+TGT_ARCH_an386 := m4f
+TGT_ARCH_an500 := m7
+TGT_REAL_an386 := float
+TGT_REAL_an500 := double
+TGT_LD := port/cortex-m/mps2.ld
+TGT_PORT_HDR := $(wildcard port/cortex-m/*.h)
+TGT_TEST_SRC = $(sort tests/harness.c tests/target_io.c $(wildcard tests/test_*.c tests/scenes.c))
+TGT_TEST_HDR = $(wildcard tests/*.h)
+
+# $(1) = board. Objects of the board's programs in $(TGT)/$(1)/.
+define tgt_board_rules
+$(TGT)/$(1)/edmi.o: edmi.c edmi.h
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(LIBFLAGS) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_LIB_OPT) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
+$(TGT)/$(1)/startup.o: port/cortex-m/startup.S
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -c $$< -o $$@
+$(TGT)/$(1)/port-%.o: port/cortex-m/%.c $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(LIBFLAGS) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) -c $$< -o $$@
+$(TGT)/$(1)/tests-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
+$(TGT)/$(1)/app-%.o: port/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
+$(TGT)/$(1)/app-smoke_%.o: port/smoke_test.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -DTGT_SMOKE_$$* -c $$< -o $$@
+TGT_RT_$(1) := $(TGT)/$(1)/startup.o $(TGT)/$(1)/port-crt.o $(TGT)/$(1)/port-semihost.o
+$(TGT)/$(1)/edmi_tests.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) \
+		$$(patsubst tests/%.c,$(TGT)/$(1)/tests-%.o,$$(TGT_TEST_SRC)) $(TGT_LD)
+	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections -Wl,-Map=$$@.map $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
+$(TGT)/$(1)/bench_target.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-bench_target.o \
+		$(TGT_LD)
+	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
+$(TGT)/$(1)/smoke-%.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-smoke_%.o \
+		$(TGT)/$(1)/tests-harness.o $(TGT)/$(1)/tests-target_io.o $(TGT_LD)
+	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
+endef
+$(foreach b,$(TGT_BOARDS),$(eval $(call tgt_board_rules,$(b))))
+
+TGT_RUN = TGT_TIMEOUT=$(TGT_TIMEOUT) TGT_QEMU=$(TGT_QEMU) bash port/run_qemu.sh
+
+test-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/edmi_tests.elf)
+	EDMI_TEST_TIMEOUT=$$(($(TGT_TIMEOUT) + 30)) bash tests/run_all.sh \
+	    $(foreach b,$(TGT_BOARDS),'$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/edmi_tests.elf')
+
+# -icount shift=0: one instruction = 1 ns of virtual time, which SysTick counts.
+bench-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/bench_target.elf)
+	$(foreach b,$(TGT_BOARDS),$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/bench_target.elf \
+	    -icount shift=0 &&) true
+
+# The runner must report a clean run as passed and a failed check, a fault, a hang and a stack
+# overflow as failed, with the exit statuses 0, 1, 3, 124 and 4.
+TGT_SMOKE := OK FAIL FAULT HANG STACK
+.SECONDARY: $(foreach s,$(TGT_SMOKE),$(TGT)/an386/app-smoke_$(s).o)
+smoke-target: $(foreach s,$(TGT_SMOKE),$(TGT)/an386/smoke-$(s).elf)
+	@pass=0; fail=0; for s in $(TGT_SMOKE); do \
+	    case $$s in OK) want=0;; FAIL) want=1;; FAULT) want=3;; STACK) want=4;; *) want=124;; esac; \
+	    TGT_TIMEOUT=5 TGT_QEMU=$(TGT_QEMU) bash port/run_qemu.sh mps2-an386 \
+	        $(TGT)/an386/smoke-$$s.elf > $(TGT)/an386/smoke-$$s.log 2>&1; rc=$$?; \
+	    tail -n 3 $(TGT)/an386/smoke-$$s.log; \
+	    if [ "$$rc" = "$$want" ]; then echo "ok   smoke-$$s: exit $$rc"; pass=$$((pass + 1)); \
+	    else echo "FAIL smoke-$$s: exit $$rc, want $$want"; fail=$$((fail + 1)); fi; \
+	done; echo "$$pass passed, $$fail failed"; test "$$fail" -eq 0
+
+# ---- host checks of port/ ----------------------------------------------------------------------
+# RAM formula: every capacity setting in both precisions on the host (LP64), and compiled
+# (the formula is a compile-time assertion) for Arm EABI and RISC-V ilp32.
+TGT_RAM_CAPS := $(TGT_CAPS) 3-5-2 7-2-1
+TGT_RAM_HOST := $(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),$(TGT)/ramcheck/$(r)-$(c)))
+TGT_RAM_CROSS := $(foreach a,m4f rv32imac,$(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),\
+                     $(TGT)/ramcheck/$(a)-$(r)-$(c).o)))
+define tgt_ram_rules
+$(TGT)/ramcheck/$(1)-$(2): port/ramcheck.c edmi.h
+	@mkdir -p $$(@D)
+	$$(CC) $$(STRICT) -Werror -O2 -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) $$< -o $$@
+$(TGT)/ramcheck/m4f-$(1)-$(2).o: port/ramcheck.c edmi.h
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_m4f) -DTGT_RAMCHECK_NO_MAIN -DEDMI_REAL=$(1) \
+	    $(call tgt_capdefs,$(2)) -c $$< -o $$@
+$(TGT)/ramcheck/rv32imac-$(1)-$(2).o: port/ramcheck.c edmi.h
+	@mkdir -p $$(@D)
+	$$(TGT_RV_CC) $$(STRICT) -Werror $$(TGT_FLAGS_rv32imac) -DTGT_RAMCHECK_NO_MAIN \
+	    -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) -c $$< -o $$@
+endef
+$(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),$(eval $(call tgt_ram_rules,$(r),$(c)))))
+
+# The cross objects only have to compile; each counts as one passed check.
+TGT_RAM_CROSS_OK = echo "compile-time formula checks, Arm EABI and RISC-V ilp32:"; \
+    echo "$(words $(TGT_RAM_CROSS)) passed, 0 failed"
+check-ram: $(TGT_RAM_HOST) $(TGT_RAM_CROSS)
+	bash tests/run_all.sh $(TGT_RAM_HOST) '$(TGT_RAM_CROSS_OK)'
+
+$(TGT)/sqrtcheck: port/sqrtcheck.c port/riscv/sqrt.c
+	@mkdir -p $(@D)
+	$(CC) $(STRICT) -Werror -O2 -DTGT_SQRTF_NAME=tgt_sqrtf -DTGT_SQRT_NAME=tgt_sqrt \
+	    port/sqrtcheck.c port/riscv/sqrt.c -o $@ -lm
+
+check-sqrt: $(TGT)/sqrtcheck
+	bash tests/run_all.sh $(TGT)/sqrtcheck
+
+check-port: $(TGT_RAM_HOST) $(TGT_RAM_CROSS) $(TGT)/sqrtcheck
+	bash tests/run_all.sh $(TGT_RAM_HOST) $(TGT)/sqrtcheck '$(TGT_RAM_CROSS_OK)'
+
+TGT_COMMA := ,
+.DEFAULT_GOAL := $(TGT_SAVED_GOAL)
