@@ -219,7 +219,7 @@ smoke-target: $(foreach s,$(TGT_SMOKE),$(TGT)/an386/smoke-$(s).elf)
 	    case $$s in OK) want=0;; FAIL) want=1;; FAULT) want=3;; STACK) want=4;; *) want=124;; esac; \
 	    TGT_TIMEOUT=5 TGT_QEMU=$(TGT_QEMU) bash port/run_qemu.sh mps2-an386 \
 	        $(TGT)/an386/smoke-$$s.elf > $(TGT)/an386/smoke-$$s.log 2>&1; rc=$$?; \
-	    tail -n 3 $(TGT)/an386/smoke-$$s.log; \
+	    tail -n 3 $(TGT)/an386/smoke-$$s.log | sed "s/^/    smoke-$$s | /"; \
 	    if [ "$$rc" = "$$want" ]; then echo "ok   smoke-$$s: exit $$rc"; pass=$$((pass + 1)); \
 	    else echo "FAIL smoke-$$s: exit $$rc, want $$want"; fail=$$((fail + 1)); fi; \
 	done; echo "$$pass passed, $$fail failed"; test "$$fail" -eq 0
