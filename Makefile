@@ -36,14 +36,19 @@ EXAMPLES := $(patsubst examples/%.c,$(HOST)/%,$(wildcard examples/*.c))
 
 all: $(HOST)/edmi.o $(EXAMPLES)
 
+# Scenes, edmi-sim, the paper's examples, plots, bench (examples/sim.mk).
+include examples/sim.mk
+
 $(HOST)/edmi.o: edmi.c edmi.h | $(HOST)
 	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -c edmi.c -o $@
 
 $(HOST)/%: examples/%.c $(HOST)/edmi.o edmi.h | $(HOST)
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/edmi.o -o $@ $(LDLIBS)
 
-run: $(HOST)/paper_spring
+# The main job: the spring's accuracy table, then the paper's three examples (edmi-sim).
+run: $(HOST)/paper_spring $(SIM_BIN)
 	$(HOST)/paper_spring
+	$(MAKE) --no-print-directory run-examples
 
 # ---- tests: the same sources in four configurations ------------------------------------------
 # tests/test_main.c is matched by test_*.c too; $(sort) removes the duplicate.
@@ -82,9 +87,9 @@ CHECK_OBJS := $(CHECK)/edmi-double.o $(CHECK)/edmi-float.o \
               $(BUILD)/test-double/edmi.o $(BUILD)/test-float/edmi.o
 
 # Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
-test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS)
+test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
-	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) \
+	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)')
 
 # ---- cross: Cortex-M4F, single precision, no double maths ------------------------------------

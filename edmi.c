@@ -1043,7 +1043,7 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
     }
     if (sys->has_field && !edmi__finite3(sys->g))
         return EDMI_ERR_NONFINITE;
-    if (!edmi__finite(sys->t))
+    if (!edmi__finite(sys->t) || !edmi__finite(sys->t_carry))
         return EDMI_ERR_NONFINITE;
     return EDMI_OK;
 }
@@ -1120,6 +1120,15 @@ static edmi_status edmi__energy_report(const edmi_system *sys, edmi_workspace *w
                             (p1.v[0] - w->v0);
     }
     return EDMI_OK;
+}
+
+/* t += dt with Kahan's compensation: after n steps t is off by ~eps t, not ~n eps t, which
+ * keeps the centre-of-mass invariant C(t) = (sum m q - t L)/M free of clock drift. */
+static void edmi__advance_clock(edmi_system *sys, edmi_real dt)
+{
+    edmi_real y = dt - sys->t_carry, t = sys->t + y;
+    sys->t_carry = (t - sys->t) - y;
+    sys->t = t;
 }
 
 static void edmi__clear_result(edmi_step_result *res)
@@ -1217,7 +1226,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
         edmi__copy3(work->q1[a], sys->body[a].q);
         edmi__copy3(work->p1[a], sys->body[a].p);
     }
-    sys->t += dt;
+    edmi__advance_clock(sys, dt);
     return EDMI_OK;
 }
 

@@ -229,7 +229,9 @@ typedef struct edmi_damper {
 typedef struct edmi_system {
     int n_bodies;
     int n_links;
-    edmi_real t; /*!< time of the current state [T], advanced by edmi_step() */
+    edmi_real t;       /*!< time of the current state [T], advanced by edmi_step() */
+    edmi_real t_carry; /*!< compensated-summation remainder of t (C(t) depends on t: a plain
+                            t += dt drifts by ~n eps t after n steps) */
     edmi_params params;
     edmi_body body[EDMI_MAX_BODIES];
     edmi_link link[EDMI_MAX_LINKS];

@@ -19,7 +19,7 @@
  *   edmi_body      = 7R                                          m, q[3], p[3]
  *   edmi_damper    = up(4, R) + R                                link, c
  *   edmi_system, field by field:
- *     s = up(2*4, R) + R + edmi_params + N*7R                    n_bodies, n_links, t, ...
+ *     s = up(2*4, R) + 2R + edmi_params + N*7R                   n_bodies, n_links, t, t_carry, ...
  *     s = up(s, RP) + L*edmi_link + 4                            link[L], has_field
  *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
  *     s = up(s, R) + D*edmi_damper + 4 + 4N                      damper[D], n_forced, forced[N]
@@ -45,7 +45,7 @@
 #define TGT_POT TGT_UP(TGT_UP(TGT_UP(TGT_E, TGT_R) + 2u * TGT_R, TGT_P) + 3u * TGT_P, TGT_RP)
 #define TGT_LINK (TGT_UP(8u + 3u * TGT_R, TGT_RP) + TGT_POT)
 #define TGT_DAMPER (TGT_UP(4u, TGT_R) + TGT_R)
-#define TGT_S1 (TGT_UP(8u, TGT_R) + TGT_R + TGT_PARAMS + TGT_N * 7u * TGT_R)
+#define TGT_S1 (TGT_UP(8u, TGT_R) + 2u * TGT_R + TGT_PARAMS + TGT_N * 7u * TGT_R)
 #define TGT_S2 (TGT_UP(TGT_S1, TGT_RP) + TGT_L * TGT_LINK + 4u)
 #define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
 #define TGT_S4 (TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
@@ -55,17 +55,18 @@
     ((9u * TGT_N * TGT_N + 22u * TGT_N + 20u * TGT_L + 9u * TGT_D) * TGT_R)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
- * K + 9R N^2 + b N + l L + d D + pad, pad = 4 bytes when N is even and R or P is 8 (the
- * int array forced[N] before force[N][3]):
- *   float:  K = 60 with 1-byte enums (arm-none-eabi), 68 with 4-byte ones; b = 132, d = 44;
+ * K + 9R N^2 + b N + l L + d D + pad, pad = 4 bytes (alignment around the int array
+ * forced[N] before force[N][3]) when R = 8 and N is even, or R = 4, P = 8 and N is odd:
+ *   float:  K = 64 with 1-byte enums (arm-none-eabi), 72 with 4-byte ones; b = 132, d = 44;
  *           l = 124 with 4-byte pointers, 144 with 8-byte ones
- *   double: K = 100 with 1-byte enums, 108 with 4-byte ones; b = 260, d = 88;
+ *   double: K = 108 with 1-byte enums, 116 with 4-byte ones; b = 260, d = 88;
  *           l = 232 with 4-byte pointers, 240 with 8-byte ones */
-#define TGT_CLOSED_K ((TGT_R == 4u ? 60u : 100u) + (TGT_E == 4u ? 8u : 0u))
+#define TGT_CLOSED_K ((TGT_R == 4u ? 64u : 108u) + (TGT_E == 4u ? 8u : 0u))
 #define TGT_CLOSED_B (TGT_R == 4u ? 132u : 260u)
 #define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 124u : 232u) : (TGT_R == 4u ? 144u : 240u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
-#define TGT_CLOSED_PAD (TGT_N % 2u == 0u && (TGT_R == 8u || TGT_P == 8u) ? 4u : 0u)
+#define TGT_CLOSED_PAD                                                                      \
+    (TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) : 0u)
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + 9u * TGT_R * TGT_N * TGT_N + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L + \
      TGT_CLOSED_D * TGT_D + TGT_CLOSED_PAD)

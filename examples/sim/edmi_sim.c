@@ -1,0 +1,707 @@
+/*
+ * edmi-sim: run a scene file on the host and report how well each invariant held.
+ *
+ *   edmi-sim SCENE [--scheme mp|lg|ge|pm|pt] [--dt X] [--t-end X] [--tol-q X] [--tol-r X]
+ *            [--tol-a X] [--l-max N] [--lg-switch closed|janz|gonzalez|ge|pm|pt]
+ *            [--every K] [--csv FILE] [--energy-balance] [--row] [--label TEXT] [--quiet]
+ *            [--emit-c]
+ *
+ * Prints a summary (steps, time, wall time, Newton iterations, final and maximum
+ * |H - H0|/|H0|, maximum |J - J0|, |L - L0|, |C - C0|) or, with --row, one Markdown table row;
+ * optionally a CSV trace. Exit status: 0 success, 1 a step or invariant evaluation failed,
+ * 2 a usage or scene error. Hosted C99 (stdio, POSIX clock and isatty); builds in double or
+ * float (EDMI_REAL).
+ */
+#define _POSIX_C_SOURCE 200112L
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "edmi.h"
+#include "scene.h"
+
+#define SIM_PROGRESS_AFTER 2.0 /* seconds before the first progress report */
+#define SIM_PROGRESS_EVERY 1.0 /* seconds between reports on a terminal */
+#define SIM_PROGRESS_LOG 10.0  /* seconds between reports when stderr is not a terminal */
+
+static const char *const usage_text =
+    "usage: edmi-sim SCENE [options]\n"
+    "  --scheme mp|lg|ge|pm|pt   algorithmic force (default: the scene's, else mp)\n"
+    "  --dt X                    time step (default: the scene's `set dt`)\n"
+    "  --t-end X                 end time; runs round(t_end/dt) steps (default: `set t_end`)\n"
+    "  --tol-q X, --tol-r X, --tol-a X, --l-max N   Newton and LG quotient settings\n"
+    "  --lg-switch closed|janz|gonzalez|ge|pm|pt\n"
+    "                            LG: closed-form divided difference, or the quotient with\n"
+    "                            that alternate force below tol_Q\n"
+    "  --csv FILE                write a trace: t, H, J, L, C, iterations, every q and p\n"
+    "                            (FILE '-' is stdout)\n"
+    "  --every K                 one CSV row every K steps (default: `set every`, else 1)\n"
+    "  --digits N                significant digits of q and p in the CSV (default 17)\n"
+    "  --energy-balance          check H_n+1 - H_n = W_ext - D_scheme - D_damping each step\n"
+    "  --row                     print one Markdown table row instead of the summary\n"
+    "  --label TEXT              the row's scheme column (default: derived from the options)\n"
+    "  --quiet                   no progress report on stderr\n"
+    "  --emit-c                  print the scene as C99 static data (an edmi_scene) and exit\n"
+    "  --help\n";
+
+static edmi_system sys;
+static edmi_workspace work;
+static sim_scene scn;
+
+typedef struct sim_opts {
+    const char *scene;
+    const char *csv;
+    const char *label;
+    int has_scheme, has_switch, has_tol_q, has_tol_r, has_tol_a, has_l_max;
+    edmi_scheme scheme;
+    edmi_params sw; /* lg_form / lg_alt from --lg-switch */
+    double dt, t_end, tol_q, tol_r, tol_a;
+    long l_max, every, digits;
+    int energy_balance, row, quiet, emit_c;
+} sim_opts;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void usage_error(const char *fmt, const char *a, const char *b)
+{
+    fprintf(stderr, "edmi-sim: ");
+    fprintf(stderr, fmt, a, b);
+    fprintf(stderr, "\n%s", usage_text);
+    exit(2);
+}
+
+static double opt_positive(const char *opt, const char *v)
+{
+    char *end;
+    double x;
+    errno = 0;
+    x = strtod(v, &end);
+    if (end == v || *end != '\0')
+        usage_error("%s: bad number '%s'", opt, v);
+    if (!isfinite(x) || (errno == ERANGE && fabs(x) > 1.0))
+        usage_error("%s: '%s' is not finite", opt, v);
+    if (!(x > 0.0))
+        usage_error("%s: '%s' must be > 0", opt, v);
+    if (x > (double)EDMI_REAL_MAX || !((edmi_real)x > (edmi_real)0))
+        usage_error("%s: '%s' does not fit in EDMI_REAL", opt, v);
+    return x;
+}
+
+static long opt_count(const char *opt, const char *v)
+{
+    char *end;
+    long n;
+    errno = 0;
+    n = strtol(v, &end, 10);
+    if (end == v || *end != '\0' || errno == ERANGE)
+        usage_error("%s: bad integer '%s'", opt, v);
+    if (n < 1)
+        usage_error("%s: '%s' must be >= 1", opt, v);
+    return n;
+}
+
+static void parse_args(int argc, char **argv, sim_opts *o)
+{
+    int i;
+    memset(o, 0, sizeof *o);
+    o->sw = edmi_default_params();
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = 0;
+        char name[32];
+        const char *eq = strchr(a, '=');
+        if (a[0] != '-' || a[1] == '\0') {
+            if (o->scene)
+                usage_error("more than one scene: '%s' and '%s'", o->scene, a);
+            o->scene = a;
+            continue;
+        }
+        /* --opt=value or --opt value */
+        if (eq && a[1] == '-') {
+            size_t n = (size_t)(eq - a);
+            if (n >= sizeof name)
+                usage_error("unknown option '%s'%s", a, "");
+            memcpy(name, a, n);
+            name[n] = '\0';
+            v = eq + 1;
+        } else {
+            snprintf(name, sizeof name, "%s", a);
+        }
+        if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
+            fputs(usage_text, stdout);
+            exit(0);
+        }
+        if (strcmp(name, "--energy-balance") == 0 || strcmp(name, "--row") == 0 ||
+            strcmp(name, "--quiet") == 0 || strcmp(name, "--emit-c") == 0) {
+            if (v)
+                usage_error("%s takes no value (got '%s')", name, v);
+            if (strcmp(name, "--energy-balance") == 0)
+                o->energy_balance = 1;
+            else if (strcmp(name, "--row") == 0)
+                o->row = 1;
+            else if (strcmp(name, "--quiet") == 0)
+                o->quiet = 1;
+            else
+                o->emit_c = 1;
+            continue;
+        }
+        if (!v) {
+            if (i + 1 >= argc)
+                usage_error("%s needs a value%s", name, "");
+            v = argv[++i];
+        }
+        if (strcmp(name, "--scheme") == 0) {
+            if (sim_parse_scheme(v, &o->scheme))
+                usage_error("--scheme: bad value '%s' (expected mp, lg, ge, pm or pt)%s", v, "");
+            o->has_scheme = 1;
+        } else if (strcmp(name, "--lg-switch") == 0) {
+            if (sim_parse_lg_switch(v, &o->sw))
+                usage_error("--lg-switch: bad value '%s' (expected closed, janz, gonzalez, ge, "
+                            "pm or pt)%s", v, "");
+            o->has_switch = 1;
+        } else if (strcmp(name, "--dt") == 0) {
+            o->dt = opt_positive(name, v);
+        } else if (strcmp(name, "--t-end") == 0) {
+            o->t_end = opt_positive(name, v);
+        } else if (strcmp(name, "--tol-q") == 0) {
+            o->tol_q = opt_positive(name, v);
+            o->has_tol_q = 1;
+        } else if (strcmp(name, "--tol-r") == 0) {
+            o->tol_r = opt_positive(name, v);
+            o->has_tol_r = 1;
+        } else if (strcmp(name, "--tol-a") == 0) {
+            o->tol_a = opt_positive(name, v);
+            o->has_tol_a = 1;
+        } else if (strcmp(name, "--l-max") == 0) {
+            o->l_max = opt_count(name, v);
+            if (o->l_max > 1000)
+                usage_error("--l-max: '%s' is more than 1000%s", v, "");
+            o->has_l_max = 1;
+        } else if (strcmp(name, "--every") == 0) {
+            o->every = opt_count(name, v);
+        } else if (strcmp(name, "--digits") == 0) {
+            o->digits = opt_count(name, v);
+            if (o->digits > 17)
+                usage_error("--digits: '%s' is more than 17%s", v, "");
+        } else if (strcmp(name, "--csv") == 0) {
+            o->csv = v;
+        } else if (strcmp(name, "--label") == 0) {
+            o->label = v;
+        } else {
+            usage_error("unknown option '%s'%s", name, "");
+        }
+    }
+    if (!o->scene)
+        usage_error("no scene file given%s%s", "", "");
+}
+
+/* ---- --emit-c: the scene as C99 static data ----------------------------------------------- */
+
+/* The shortest decimal that reads back as x, valid after EDMI_R()'s f-suffix pasting (it
+ * always has a '.' or an exponent). */
+static const char *lit(double x, char *buf, size_t n)
+{
+    int prec;
+    for (prec = 1; prec <= 17; prec++) {
+        snprintf(buf, n, "%.*g", prec, x);
+        if (strtod(buf, 0) == x)
+            break;
+    }
+    if (!strpbrk(buf, ".en"))
+        strncat(buf, ".0", n - strlen(buf) - 1);
+    return buf;
+}
+
+static const char *pot_kind_name(edmi_pot_kind k)
+{
+    switch (k) {
+    case EDMI_POT_HARMONIC: return "EDMI_POT_HARMONIC";
+    case EDMI_POT_QUARTIC: return "EDMI_POT_QUARTIC";
+    case EDMI_POT_NEO_HOOKE: return "EDMI_POT_NEO_HOOKE";
+    case EDMI_POT_LJ: return "EDMI_POT_LJ";
+    case EDMI_POT_INVERSE: return "EDMI_POT_INVERSE";
+    default: return "EDMI_POT_USER";
+    }
+}
+
+static void emit_c(const sim_scene *s, const char *path)
+{
+    static const char *const scheme_c[] = {"EDMI_MP", "EDMI_LG", "EDMI_GE", "EDMI_PM", "EDMI_PT"};
+    static const char *const alt_c[] = {"EDMI_ALT_JANZ", "EDMI_ALT_GONZALEZ", "EDMI_ALT_GE",
+                                        "EDMI_ALT_PM", "EDMI_ALT_PT"};
+    char b0[40], b1[40], b2[40], b3[40], b4[40], b5[40], b6[40];
+    int i;
+    printf("/* Generated by `edmi-sim %s --emit-c`%s%s.\n", path, s->title[0] ? ": " : "",
+           s->title);
+    printf(" * C99 constant data (it can live in flash). Load it with\n"
+           " *     edmi_load_scene(&sys, &scene);\n");
+    if (s->n_forces)
+        printf(" * then set the force ports with\n"
+               " *     for (i = 0; i < SCENE_N_PORTS; i++)\n"
+               " *         edmi_set_force(&sys, scene_port_body[i], scene_port_force[i]);\n");
+    printf(" * Build the library with EDMI_MAX_BODIES >= %d, EDMI_MAX_LINKS >= %d, "
+           "EDMI_MAX_DAMPERS >= %d. */\n", s->n_bodies, s->n_links, s->n_dampers);
+    printf("#include \"edmi.h\"\n\n");
+    printf("static const edmi_body scene_bodies[%d] = {\n", s->n_bodies);
+    for (i = 0; i < s->n_bodies; i++) {
+        const edmi_body *bd = &s->body[i];
+        printf("    {EDMI_R(%s), {EDMI_R(%s), EDMI_R(%s), EDMI_R(%s)}, "
+               "{EDMI_R(%s), EDMI_R(%s), EDMI_R(%s)}}, /* %d%s%s */\n",
+               lit((double)bd->m, b0, sizeof b0), lit((double)bd->q[0], b1, sizeof b1),
+               lit((double)bd->q[1], b2, sizeof b2), lit((double)bd->q[2], b3, sizeof b3),
+               lit((double)bd->p[0], b4, sizeof b4), lit((double)bd->p[1], b5, sizeof b5),
+               lit((double)bd->p[2], b6, sizeof b6), i, s->body_name[i][0] ? " " : "",
+               s->body_name[i]);
+    }
+    printf("};\n\nstatic const edmi_link scene_links[%d] = {\n", s->n_links > 0 ? s->n_links : 1);
+    for (i = 0; i < s->n_links; i++) {
+        const edmi_link *lk = &s->link[i];
+        char bb[16];
+        if (lk->b == EDMI_ANCHOR)
+            snprintf(bb, sizeof bb, "EDMI_ANCHOR");
+        else
+            snprintf(bb, sizeof bb, "%d", lk->b);
+        printf("    {.a = %d, .b = %s, .anchor = {EDMI_R(%s), EDMI_R(%s), EDMI_R(%s)},\n"
+               "     .pot = {.kind = %s, .a = EDMI_R(%s), .b = EDMI_R(%s)}}, /* link %d */\n",
+               lk->a, bb, lit((double)lk->anchor[0], b0, sizeof b0),
+               lit((double)lk->anchor[1], b1, sizeof b1), lit((double)lk->anchor[2], b2, sizeof b2),
+               pot_kind_name(lk->pot.kind), lit((double)lk->pot.a, b3, sizeof b3),
+               lit((double)lk->pot.b, b4, sizeof b4), i);
+    }
+    if (s->n_links == 0)
+        printf("    {0}\n");
+    printf("};\n\n");
+    if (s->n_dampers) {
+        printf("static const edmi_damper scene_dampers[%d] = {\n", s->n_dampers);
+        for (i = 0; i < s->n_dampers; i++)
+            printf("    {.link = %d, .c = EDMI_R(%s)},\n", s->damper[i].link,
+                   lit((double)s->damper[i].c, b0, sizeof b0));
+        printf("};\n\n");
+    }
+    printf("static const edmi_params scene_params = {\n"
+           "    .scheme = %s, .lg_form = %s, .lg_alt = %s,\n"
+           "    .tol_q = EDMI_R(%s), .tol_r = EDMI_R(%s), .tol_a = EDMI_R(%s),\n"
+           "    .l_max = %d, .energy_balance = 0};\n\n",
+           scheme_c[s->params.scheme],
+           s->params.lg_form == EDMI_LG_CLOSED ? "EDMI_LG_CLOSED" : "EDMI_LG_QUOTIENT",
+           alt_c[s->params.lg_alt], lit((double)s->params.tol_q, b0, sizeof b0),
+           lit((double)s->params.tol_r, b1, sizeof b1), lit((double)s->params.tol_a, b2, sizeof b2),
+           s->params.l_max);
+    printf("const edmi_scene scene = {\n"
+           "    .n_bodies = %d, .bodies = scene_bodies,\n"
+           "    .n_links = %d, .links = scene_links,\n"
+           "    .n_dampers = %d, .dampers = %s,\n"
+           "    .has_field = %d, .g = {EDMI_R(%s), EDMI_R(%s), EDMI_R(%s)},\n"
+           "    .params = &scene_params};\n",
+           s->n_bodies, s->n_links, s->n_dampers, s->n_dampers ? "scene_dampers" : "0",
+           s->has_field, lit((double)s->g[0], b0, sizeof b0), lit((double)s->g[1], b1, sizeof b1),
+           lit((double)s->g[2], b2, sizeof b2));
+    if (s->n_forces) {
+        printf("\n#define SCENE_N_PORTS %d\n", s->n_forces);
+        printf("const int scene_port_body[SCENE_N_PORTS] = {");
+        for (i = 0; i < s->n_forces; i++)
+            printf("%s%d", i ? ", " : "", s->force_body[i]);
+        printf("};\nconst edmi_real scene_port_force[SCENE_N_PORTS][3] = {\n");
+        for (i = 0; i < s->n_forces; i++)
+            printf("    {EDMI_R(%s), EDMI_R(%s), EDMI_R(%s)},\n",
+                   lit((double)s->force[i][0], b0, sizeof b0),
+                   lit((double)s->force[i][1], b1, sizeof b1),
+                   lit((double)s->force[i][2], b2, sizeof b2));
+        printf("};\n");
+    }
+    if (s->dt > 0.0)
+        printf("\n/* The scene's step: dt = %.17g", s->dt);
+    if (s->dt > 0.0 && s->t_end > 0.0)
+        printf(", t_end = %.17g", s->t_end);
+    if (s->dt > 0.0)
+        printf(". */\n");
+}
+
+/* ---- the run ------------------------------------------------------------------------------ */
+
+static double norm3d(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+static double diff3(const edmi_real a[3], const edmi_real b[3])
+{
+    double d[3];
+    int i;
+    for (i = 0; i < 3; i++)
+        d[i] = (double)a[i] - (double)b[i];
+    return norm3d(d);
+}
+
+static double norm3r(const edmi_real a[3])
+{
+    double d[3];
+    int i;
+    for (i = 0; i < 3; i++)
+        d[i] = (double)a[i];
+    return norm3d(d);
+}
+
+/* Running totals of one run. */
+typedef struct sim_stats {
+    long steps, iterations, stalled, lg_switch_steps;
+    int max_iterations;
+    double wall;
+    double h0, h_scale, max_dh, final_dh; /* dh relative to h_scale (|H0|, or 1 if H0 = 0) */
+    double max_dj, max_dl, max_dc;
+    double w_ext, d_scheme, d_damping;  /* sums over the run */
+    double max_balance;                 /* max |dH - (W - Ds - Dd)| per step */
+    double max_balance_scale;           /* max of |H_n| + |W| + |Ds| + |Dd| over those steps */
+} sim_stats;
+
+static void csv_header(FILE *f, const sim_scene *s)
+{
+    int b;
+    fprintf(f, "t,H,dH_rel,Jx,Jy,Jz,Lx,Ly,Lz,Cx,Cy,Cz,dJ,dL,dC,iters,W_ext,D_scheme,D_damping");
+    for (b = 0; b < s->n_bodies; b++) {
+        char nm[SIM_NAME_MAX + 8];
+        if (s->body_name[b][0])
+            snprintf(nm, sizeof nm, "%s", s->body_name[b]);
+        else
+            snprintf(nm, sizeof nm, "b%d", b);
+        fprintf(f, ",%s_qx,%s_qy,%s_qz,%s_px,%s_py,%s_pz", nm, nm, nm, nm, nm, nm);
+    }
+    fputc('\n', f);
+}
+
+static void csv_row(FILE *f, const edmi_invariants *inv, const sim_stats *st, double dj,
+                    double dl, double dc, int iters, int digits)
+{
+    int b, i;
+    fprintf(f, "%.17g,%.17g,%.17g", (double)sys.t, (double)inv->h,
+            ((double)inv->h - st->h0) / st->h_scale);
+    for (i = 0; i < 3; i++)
+        fprintf(f, ",%.17g", (double)inv->j[i]);
+    for (i = 0; i < 3; i++)
+        fprintf(f, ",%.17g", (double)inv->l[i]);
+    for (i = 0; i < 3; i++)
+        fprintf(f, ",%.17g", (double)inv->c[i]);
+    fprintf(f, ",%.6g,%.6g,%.6g,%d,%.17g,%.17g,%.17g", dj, dl, dc, iters, st->w_ext, st->d_scheme,
+            st->d_damping);
+    for (b = 0; b < sys.n_bodies; b++) {
+        const edmi_body *bd = &sys.body[b];
+        fprintf(f, ",%.*g,%.*g,%.*g,%.*g,%.*g,%.*g", digits, (double)bd->q[0], digits,
+                (double)bd->q[1], digits, (double)bd->q[2], digits, (double)bd->p[0], digits,
+                (double)bd->p[1], digits, (double)bd->p[2]);
+    }
+    fputc('\n', f);
+}
+
+/* The scheme as a short label: "PM", "LG", "LG-Q/Janz 1e-08". */
+static void scheme_label(const edmi_params *p, char *buf, size_t n)
+{
+    static const char *const up[] = {"MP", "LG", "GE", "PM", "PT"};
+    static const char *const alt[] = {"Janz", "Gonzalez", "GE", "PM", "PT"};
+    if (p->scheme == EDMI_LG && p->lg_form == EDMI_LG_QUOTIENT)
+        snprintf(buf, n, "LG-Q/%s %.0e", alt[p->lg_alt], (double)p->tol_q);
+    else
+        snprintf(buf, n, "%s", up[p->scheme]);
+}
+
+static const char *base_name(const char *path, char *buf, size_t n)
+{
+    const char *s = strrchr(path, '/');
+    char *dot;
+    snprintf(buf, n, "%s", s ? s + 1 : path);
+    dot = strrchr(buf, '.');
+    if (dot && strcmp(dot, ".scene") == 0)
+        *dot = '\0';
+    return buf;
+}
+
+/* Which momenta the scene conserves: L and C(t) need no anchors, no field and no force
+ * ports; J needs no field and no ports, and every anchor at the origin (sections 2 and 4.1
+ * of the paper). why names what the scene has of these. */
+static void conserved(const sim_scene *s, int *j_ok, int *lc_ok, char *why, size_t n)
+{
+    int i, anchors = 0, off_origin = 0;
+    int field = s->has_field && (s->g[0] != 0 || s->g[1] != 0 || s->g[2] != 0);
+    for (i = 0; i < s->n_links; i++)
+        if (s->link[i].b == EDMI_ANCHOR) {
+            anchors = 1;
+            if (s->link[i].anchor[0] != 0 || s->link[i].anchor[1] != 0 ||
+                s->link[i].anchor[2] != 0)
+                off_origin = 1;
+        }
+    *lc_ok = !anchors && !field && s->n_forces == 0;
+    *j_ok = !off_origin && !field && s->n_forces == 0;
+    snprintf(why, n, "%s%s%s%s%s", anchors ? "anchors" : "",
+             anchors && (field || s->n_forces) ? ", " : "", field ? "field" : "",
+             field && s->n_forces ? ", " : "", s->n_forces ? "force ports" : "");
+}
+
+static void print_summary(const sim_opts *o, const sim_stats *st, double dt, long n_steps,
+                          const edmi_invariants *inv0)
+{
+    const edmi_params *p = &sys.params;
+    char why[48], lbl[64];
+    int j_ok, lc_ok;
+    scheme_label(p, lbl, sizeof lbl);
+    printf("scene     %s%s%s\n", o->scene, scn.title[0] ? ": " : "", scn.title);
+    printf("          %d bodies, %d links, %d dampers, field %s, %d force ports\n", scn.n_bodies,
+           scn.n_links, scn.n_dampers, scn.has_field ? "yes" : "no", scn.n_forces);
+    printf("scheme    %s", lbl);
+    if (p->scheme == EDMI_LG)
+        printf(" (%s)", p->lg_form == EDMI_LG_CLOSED ? "closed-form divided difference"
+                                                     : "quotient, alternate below tol_Q");
+    printf(", tol_R %.3g, tol_A %.3g, l_max %d%s\n", (double)p->tol_r, (double)p->tol_a,
+           p->l_max, o->energy_balance ? ", energy balance on" : "");
+    printf("steps     %ld of %ld, dt %.6g, t = %.10g\n", st->steps, n_steps, dt, (double)sys.t);
+    printf("wall      %.3f s (%.3g us/step)\n", st->wall,
+           st->steps ? 1e6 * st->wall / (double)st->steps : 0.0);
+    printf("Newton    %.3f iterations/step (max %d); %ld steps stopped at the round-off floor\n",
+           st->steps ? (double)st->iterations / (double)st->steps : 0.0, st->max_iterations,
+           st->stalled);
+    if (p->scheme == EDMI_LG && p->lg_form == EDMI_LG_QUOTIENT)
+        printf("LG switch %ld steps used the alternate force on some link\n", st->lg_switch_steps);
+    printf("H0        %.17g\n", st->h0);
+    printf("%s  final %.3e, max %.3e\n",
+           st->h0 != 0.0 ? "|H-H0|/|H0|" : "|H-H0| (H0=0)", st->final_dh, st->max_dh);
+    conserved(&scn, &j_ok, &lc_ok, why, sizeof why);
+    printf("max |J - J0| %.3e   (|J0| = %.6g)%s%s\n", st->max_dj, norm3r(inv0->j),
+           j_ok ? "" : "  not an invariant here: ", j_ok ? "" : why);
+    printf("max |L - L0| %.3e   (|L0| = %.6g)%s%s\n", st->max_dl, norm3r(inv0->l),
+           lc_ok ? "" : "  not an invariant here: ", lc_ok ? "" : why);
+    printf("max |C - C0| %.3e   (|C0| = %.6g)%s%s\n", st->max_dc, norm3r(inv0->c),
+           lc_ok ? "" : "  not an invariant here: ", lc_ok ? "" : why);
+    if (scn.n_forces || scn.n_dampers || o->energy_balance)
+        printf("energy    W_ext %.6e, D_damping %.6e%s", st->w_ext, st->d_damping,
+               o->energy_balance ? "" : "\n");
+    if (o->energy_balance) {
+        printf(", D_scheme %.6e\n", st->d_scheme);
+        printf("balance   max |H_n+1 - H_n - (W_ext - D_scheme - D_damping)| = %.3e per step "
+               "(%.3g x the energies involved)\n",
+               st->max_balance,
+               st->max_balance_scale > 0.0 ? st->max_balance / st->max_balance_scale : 0.0);
+    }
+}
+
+/* "%9.2e", or "n/a" when the quantity is not an invariant of the scene. */
+static const char *cell(double v, int ok, char *buf, size_t n)
+{
+    if (ok)
+        snprintf(buf, n, "%9.2e", v);
+    else
+        snprintf(buf, n, "%9s", "n/a");
+    return buf;
+}
+
+static void print_row(const sim_opts *o, const sim_stats *st)
+{
+    char lbl[64], nm[64], cj[16], cl[16], cc[16], why[48];
+    int j_ok, lc_ok;
+    conserved(&scn, &j_ok, &lc_ok, why, sizeof why);
+    if (o->label)
+        snprintf(lbl, sizeof lbl, "%s", o->label);
+    else
+        scheme_label(&sys.params, lbl, sizeof lbl);
+    printf("| %-13s | %-15s | %7ld | %7.3f | %5.2f | %9.2e | %10.2e | %s | %s | %s |\n",
+           base_name(o->scene, nm, sizeof nm), lbl, st->steps, st->wall,
+           st->steps ? (double)st->iterations / (double)st->steps : 0.0, st->max_dh, st->final_dh,
+           cell(st->max_dj, j_ok, cj, sizeof cj), cell(st->max_dl, lc_ok, cl, sizeof cl),
+           cell(st->max_dc, lc_ok, cc, sizeof cc));
+}
+
+static void progress(const sim_opts *o, long k, long n, double t0, double *next, int tty)
+{
+    double el = now_s() - t0;
+    if (o->quiet || el < *next)
+        return;
+    fprintf(stderr, "%sedmi-sim: %3.0f%% (step %ld of %ld, t = %.6g, %.0f s, about %.0f s left)%s",
+            tty ? "\r" : "", 100.0 * (double)k / (double)n, k, n, (double)sys.t, el,
+            el * (double)(n - k) / (double)k, tty ? "" : "\n");
+    fflush(stderr);
+    *next = el + (tty ? SIM_PROGRESS_EVERY : SIM_PROGRESS_LOG);
+}
+
+int main(int argc, char **argv)
+{
+    sim_opts o;
+    sim_stats st;
+    char err[SIM_ERR_MAX];
+    edmi_scene view;
+    edmi_invariants inv0, inv, prev;
+    edmi_status s;
+    FILE *csv = 0;
+    double dt, t_end, t0, next_report = SIM_PROGRESS_AFTER;
+    long n_steps, every, k;
+    int i, tty, reported = 0, failed = 0, digits;
+
+    parse_args(argc, argv, &o);
+    if (sim_scene_load(o.scene, &scn, err, sizeof err)) {
+        fprintf(stderr, "%s\n", err);
+        return 2;
+    }
+    /* command line over scene settings */
+    if (o.has_scheme)
+        scn.params.scheme = o.scheme;
+    if (o.has_switch) {
+        scn.params.lg_form = o.sw.lg_form;
+        scn.params.lg_alt = o.sw.lg_alt;
+    }
+    if (o.has_tol_q)
+        scn.params.tol_q = (edmi_real)o.tol_q;
+    if (o.has_tol_r)
+        scn.params.tol_r = (edmi_real)o.tol_r;
+    if (o.has_tol_a)
+        scn.params.tol_a = (edmi_real)o.tol_a;
+    if (o.has_l_max)
+        scn.params.l_max = (int)o.l_max;
+    scn.params.energy_balance = o.energy_balance;
+    if (o.emit_c) {
+        emit_c(&scn, o.scene);
+        return 0;
+    }
+    dt = o.dt > 0.0 ? o.dt : scn.dt;
+    t_end = o.t_end > 0.0 ? o.t_end : scn.t_end;
+    every = o.every > 0 ? o.every : (scn.every > 0 ? scn.every : 1);
+    digits = o.digits > 0 ? (int)o.digits : 17;
+    if (!(dt > 0.0)) {
+        fprintf(stderr, "edmi-sim: %s: no time step: give `set dt X` in the scene or --dt X\n",
+                o.scene);
+        return 2;
+    }
+    if (!(t_end > 0.0)) {
+        fprintf(stderr, "edmi-sim: %s: no end time: give `set t_end X` in the scene or "
+                "--t-end X\n", o.scene);
+        return 2;
+    }
+    if (t_end / dt > 1e12) {
+        fprintf(stderr, "edmi-sim: t_end / dt = %.3g steps is too many\n", t_end / dt);
+        return 2;
+    }
+    n_steps = (long)floor(t_end / dt + 0.5);
+    if (n_steps < 1) {
+        fprintf(stderr, "edmi-sim: t_end = %g is less than dt/2 = %g: no step to take\n", t_end,
+                0.5 * dt);
+        return 2;
+    }
+    if (fabs((double)n_steps * dt - t_end) > 1e-9 * t_end)
+        fprintf(stderr, "edmi-sim: note: t_end = %.10g is not a multiple of dt = %.10g; "
+                "running %ld steps to t = %.10g\n", t_end, dt, n_steps, (double)n_steps * dt);
+    if (o.has_switch && scn.params.scheme != EDMI_LG)
+        fprintf(stderr, "edmi-sim: note: --lg-switch has no effect with --scheme %s\n",
+                sim_scheme_word(scn.params.scheme));
+
+    view = sim_scene_view(&scn);
+    s = edmi_load_scene(&sys, &view);
+    if (s != EDMI_OK) {
+        fprintf(stderr, "edmi-sim: %s: edmi_load_scene: %s\n", o.scene, edmi_status_name(s));
+        return 2;
+    }
+    for (i = 0; i < scn.n_forces; i++) {
+        s = edmi_set_force(&sys, scn.force_body[i], scn.force[i]);
+        if (s != EDMI_OK) {
+            fprintf(stderr, "edmi-sim: %s: edmi_set_force(%d): %s\n", o.scene, scn.force_body[i],
+                    edmi_status_name(s));
+            return 2;
+        }
+    }
+    s = edmi_invariants_of(&sys, &inv0);
+    if (s != EDMI_OK) {
+        fprintf(stderr, "edmi-sim: %s: invariants of the initial state: %s\n", o.scene,
+                edmi_status_name(s));
+        return 2;
+    }
+
+    memset(&st, 0, sizeof st);
+    st.h0 = (double)inv0.h;
+    st.h_scale = st.h0 != 0.0 ? fabs(st.h0) : 1.0;
+    if (o.csv) {
+        csv = strcmp(o.csv, "-") == 0 ? stdout : fopen(o.csv, "w");
+        if (!csv) {
+            fprintf(stderr, "edmi-sim: cannot write %s: %s\n", o.csv, strerror(errno));
+            return 2;
+        }
+        csv_header(csv, &scn);
+        csv_row(csv, &inv0, &st, 0.0, 0.0, 0.0, 0, digits);
+    }
+
+    tty = isatty(2);
+    prev = inv0;
+    t0 = now_s();
+    for (k = 1; k <= n_steps; k++) {
+        edmi_step_result res;
+        double dh, dj, dl, dc;
+        s = edmi_step(&sys, &work, (edmi_real)dt, &res);
+        if (s != EDMI_OK) {
+            fprintf(stderr, "%sedmi-sim: step %ld of %ld (from t = %.10g) failed: %s after %d "
+                    "Newton iterations (scaled residual %.3g, round-off floor %.3g)\n",
+                    reported && tty ? "\n" : "", k, n_steps, (double)sys.t, edmi_status_name(s),
+                    res.iterations, (double)res.residual, (double)res.floor);
+            failed = 1;
+            break;
+        }
+        s = edmi_invariants_of(&sys, &inv);
+        if (s != EDMI_OK) {
+            fprintf(stderr, "edmi-sim: invariants after step %ld: %s\n", k, edmi_status_name(s));
+            st.steps = k;
+            failed = 1;
+            break;
+        }
+        st.steps = k;
+        st.iterations += res.iterations;
+        if (res.iterations > st.max_iterations)
+            st.max_iterations = res.iterations;
+        if (res.stop == EDMI_STOP_STALLED)
+            st.stalled++;
+        if (res.lg_switches > 0)
+            st.lg_switch_steps++;
+        st.w_ext += (double)res.work_ext;
+        st.d_scheme += (double)res.diss_scheme;
+        st.d_damping += (double)res.diss_damping;
+        dh = fabs((double)inv.h - st.h0) / st.h_scale;
+        dj = diff3(inv.j, inv0.j);
+        dl = diff3(inv.l, inv0.l);
+        dc = diff3(inv.c, inv0.c);
+        if (dh > st.max_dh)
+            st.max_dh = dh;
+        if (dj > st.max_dj)
+            st.max_dj = dj;
+        if (dl > st.max_dl)
+            st.max_dl = dl;
+        if (dc > st.max_dc)
+            st.max_dc = dc;
+        if (o.energy_balance) {
+            double w = (double)res.work_ext, ds = (double)res.diss_scheme,
+                   dd = (double)res.diss_damping;
+            double mis = fabs(((double)inv.h - (double)prev.h) - (w - ds - dd));
+            double scale = fabs((double)prev.h) + fabs(w) + fabs(ds) + fabs(dd);
+            if (mis > st.max_balance)
+                st.max_balance = mis;
+            if (scale > st.max_balance_scale)
+                st.max_balance_scale = scale;
+        }
+        prev = inv;
+        if (csv && (k % every == 0 || k == n_steps))
+            csv_row(csv, &inv, &st, dj, dl, dc, res.iterations, digits);
+        if ((k & 63) == 0) {
+            double before = next_report;
+            progress(&o, k, n_steps, t0, &next_report, tty);
+            if (next_report != before)
+                reported = 1;
+        }
+    }
+    st.wall = now_s() - t0;
+    if (reported && tty && !o.quiet)
+        fprintf(stderr, "\r%60s\r", "");
+    st.final_dh = ((double)prev.h - st.h0) / st.h_scale;
+    if (csv && csv != stdout && fclose(csv) != 0) {
+        fprintf(stderr, "edmi-sim: writing %s: %s\n", o.csv, strerror(errno));
+        return 1;
+    }
+    if (o.row)
+        print_row(&o, &st);
+    else
+        print_summary(&o, &st, dt, n_steps, &inv0);
+    return failed;
+}
