@@ -569,7 +569,13 @@ static void edmi__link_vector(const edmi_system *sys, const edmi_link *lk, edmi_
 /* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use. */
 static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *work)
 {
-    int i;
+    int i, back = sys->n_links;
+    work->n_pair = 0;
+    for (i = 0; i < sys->n_links; i++) /* pair links first, anchor links after them */
+        if (sys->link[i].b == EDMI_ANCHOR)
+            work->order[--back] = i;
+        else
+            work->order[work->n_pair++] = i;
     for (i = 0; i < sys->n_links; i++) {
         const edmi_link *lk = &sys->link[i];
         edmi_link_ws *w = &work->lw[i];
@@ -663,11 +669,48 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
 /* R_q, R_p at the trial end state (q1, p1), each link's tangent block (in work->lw), and
  * the round-off floors |R_q| and |R_p| cannot go below (work->nq, work->np): eps times the
  * magnitudes summed into them, plus the LG quotient's cancellation error. */
+/* One link's algorithmic force f = dt beta r_m for the end-of-step link vector r1, its tangent
+ * block (into work->lw[j]) and the round-off floor of f (*nf). */
+static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                    int j, const edmi_real r1[3], edmi_real f[3], edmi_real *nf,
+                                    int *switched)
+{
+    const edmi_link *lk = &sys->link[j];
+    edmi_link_ws *w = &work->lw[j];
+    edmi__link_eval le;
+    edmi_real rm[3];
+    edmi_status st;
+    int i, c;
+    for (i = 0; i < 3; i++)
+        rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+    le.switched = 0;
+    le.beta_err = EDMI__ZERO;
+    st = sys->params.scheme == EDMI_MP ? edmi__beta_mp(&lk->pot, rm, &le)
+                                       : edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
+    if (st != EDMI_OK)
+        return st;
+    *switched = le.switched;
+    w->beta = le.beta;
+    for (i = 0; i < 3; i++) {
+        f[i] = dt * le.beta * rm[i];
+        for (c = 0; c < 3; c++)
+            w->k[3 * i + c] = dt * (le.gamma * rm[i] * le.u[c] +
+                                    (i == c ? EDMI__HALF * le.beta : EDMI__ZERO));
+    }
+    /* beta ~ V'/d: its round-off is a few eps |beta|, V''s own (2 evaluations near d_n),
+     * and the LG quotient's cancellation */
+    *nf = dt * edmi__norm(rm) *
+          (EDMI_R(4.0) * EDMI_EPS * edmi__abs(le.beta) + EDMI_R(2.0) * w->dv0_err / w->d0 +
+           le.beta_err);
+    return EDMI_OK;
+}
+
 static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                   const edmi_real (*q1)[3], const edmi_real (*p1)[3],
                                   edmi_real (*rq)[3], edmi_real (*rp)[3], int *switches)
 {
-    int a, i, j, nsw = 0;
+    int a, i, k, nsw = 0, sw;
+    edmi_real r1[3], f[3], nf;
     edmi_status st;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
@@ -680,44 +723,31 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
         work->nq[a] = EDMI_EPS * (edmi__norm(q1[a]) + edmi__norm(bd->q) + h * (np0 + np1));
         work->np[a] = EDMI_EPS * (np0 + np1);
     }
-    for (j = 0; j < sys->n_links; j++) {
-        const edmi_link *lk = &sys->link[j];
-        edmi_link_ws *w = &work->lw[j];
-        edmi__link_eval le;
-        edmi_real r1[3], rm[3], f[3];
-        edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
-        for (i = 0; i < 3; i++)
-            rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
-        le.switched = 0;
-        le.beta_err = EDMI__ZERO;
-        st = sys->params.scheme == EDMI_MP ? edmi__beta_mp(&lk->pot, rm, &le)
-                                           : edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
+    /* Pair links, then anchor links (work->order, set once per step): no per-link branch. */
+    for (k = 0; k < work->n_pair; k++) {
+        const edmi_link *lk = &sys->link[work->order[k]];
+        edmi__sub(q1[lk->a], q1[lk->b], r1);
+        st = edmi__link_force(sys, work, dt, work->order[k], r1, f, &nf, &sw);
         if (st != EDMI_OK)
             return st;
-        nsw += le.switched;
-        w->beta = le.beta;
-        for (i = 0; i < 3; i++) {
-            int c;
-            f[i] = dt * le.beta * rm[i];
-            for (c = 0; c < 3; c++)
-                w->k[3 * i + c] = dt * (le.gamma * rm[i] * le.u[c] +
-                                        (i == c ? EDMI__HALF * le.beta : EDMI__ZERO));
-        }
-        {
-            /* beta ~ V'/d: its round-off is a few eps |beta|, V''s own (2 evaluations near
-             * d_n), and the LG quotient's cancellation */
-            edmi_real nrm = edmi__norm(rm);
-            edmi_real nf = dt * nrm * (EDMI_R(4.0) * EDMI_EPS * edmi__abs(le.beta) +
-                                       EDMI_R(2.0) * w->dv0_err / w->d0 + le.beta_err);
-            work->np[lk->a] += nf;
-            if (lk->b != EDMI_ANCHOR)
-                work->np[lk->b] += nf;
-        }
+        nsw += sw;
+        work->np[lk->a] += nf;
+        work->np[lk->b] += nf;
         for (i = 0; i < 3; i++) {
             rp[lk->a][i] += f[i];
-            if (lk->b != EDMI_ANCHOR)
-                rp[lk->b][i] -= f[i];
+            rp[lk->b][i] -= f[i];
         }
+    }
+    for (k = work->n_pair; k < sys->n_links; k++) {
+        const edmi_link *lk = &sys->link[work->order[k]];
+        edmi__sub(q1[lk->a], lk->anchor, r1);
+        st = edmi__link_force(sys, work, dt, work->order[k], r1, f, &nf, &sw);
+        if (st != EDMI_OK)
+            return st;
+        nsw += sw;
+        work->np[lk->a] += nf;
+        for (i = 0; i < 3; i++)
+            rp[lk->a][i] += f[i];
     }
     st = edmi__effects_residual(sys, work, dt, q1, rp);
     if (st != EDMI_OK)
@@ -771,23 +801,39 @@ static int edmi__bandwidth(const edmi_system *sys)
     return 3 * w + 2;
 }
 
-/* Add the tangent block k = d(force on a)/d(q_a - q_b) of a two-ended force (+ on a, - on b;
- * b may be an anchor) into the dense row-major n x n matrix g, rows of a scaled by ha and rows
- * of b by hb. */
-static void edmi__scatter(edmi_real *g, int n, const edmi_link *lk, const edmi_real k[9],
-                          edmi_real ha, edmi_real hb)
+/* Add the tangent block k = d(force on a)/d(q_a - q_b) of a force acting + on body a and -
+ * on body b into the dense row-major n x n matrix g, rows of a scaled by ha, of b by hb. */
+static void edmi__scatter_pair(edmi_real *g, int n, int a, int b, const edmi_real k[9],
+                               edmi_real ha, edmi_real hb)
 {
-    int r, c, ra = 3 * lk->a, rb = 3 * lk->b;
+    int r, c, ra = 3 * a, rb = 3 * b;
     for (r = 0; r < 3; r++)
         for (c = 0; c < 3; c++) {
             edmi_real v = k[3 * r + c];
             g[(ra + r) * n + ra + c] += ha * v;
-            if (lk->b != EDMI_ANCHOR) {
-                g[(ra + r) * n + rb + c] -= ha * v;
-                g[(rb + r) * n + ra + c] -= hb * v;
-                g[(rb + r) * n + rb + c] += hb * v;
-            }
+            g[(ra + r) * n + rb + c] -= ha * v;
+            g[(rb + r) * n + ra + c] -= hb * v;
+            g[(rb + r) * n + rb + c] += hb * v;
         }
+}
+
+/* The same for a force on body a from a fixed anchor: only the (a, a) block. */
+static void edmi__scatter_anchor(edmi_real *g, int n, int a, const edmi_real k[9], edmi_real ha)
+{
+    int r, c, ra = 3 * a;
+    for (r = 0; r < 3; r++)
+        for (c = 0; c < 3; c++)
+            g[(ra + r) * n + ra + c] += ha * k[3 * r + c];
+}
+
+/* A damper acts along a link that may be a pair or an anchor link. */
+static void edmi__scatter(edmi_real *g, int n, const edmi_link *lk, const edmi_real k[9],
+                          edmi_real ha, edmi_real hb)
+{
+    if (lk->b == EDMI_ANCHOR)
+        edmi__scatter_anchor(g, n, lk->a, k, ha);
+    else
+        edmi__scatter_pair(g, n, lk->a, lk->b, k, ha, hb);
 }
 
 /* Row scale dt / (2 m) of a link's ends (hb unused for an anchor). */
@@ -810,9 +856,16 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
             g[i * n + j] = EDMI__ZERO;
         g[i * n + i] = EDMI__ONE;
     }
-    for (j = 0; j < sys->n_links; j++) {
-        edmi__end_scales(sys, &sys->link[j], dt, &ha, &hb);
-        edmi__scatter(g, n, &sys->link[j], work->lw[j].k, ha, hb);
+    for (j = 0; j < work->n_pair; j++) {
+        const edmi_link *lk = &sys->link[work->order[j]];
+        edmi__scatter_pair(g, n, lk->a, lk->b, work->lw[work->order[j]].k,
+                           dt / (EDMI_R(2.0) * sys->body[lk->a].m),
+                           dt / (EDMI_R(2.0) * sys->body[lk->b].m));
+    }
+    for (j = work->n_pair; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[work->order[j]];
+        edmi__scatter_anchor(g, n, lk->a, work->lw[work->order[j]].k,
+                             dt / (EDMI_R(2.0) * sys->body[lk->a].m));
     }
     for (j = 0; j < sys->n_dampers; j++) {
         const edmi_link *lk = &sys->link[sys->damper[j].link];

@@ -40,7 +40,7 @@
 #endif
 
 /** Links (pair or anchor) per system. Costs one edmi_link (2 ints, 5 reals, an enum and 3
- *  pointers, plus padding) in edmi_system and 20 reals in edmi_workspace per link. */
+ *  pointers, plus padding) in edmi_system and 20 reals and an int in edmi_workspace per link. */
 #ifndef EDMI_MAX_LINKS
 #define EDMI_MAX_LINKS 64
 #endif
@@ -290,6 +290,8 @@ typedef struct edmi_workspace {
     edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
+    int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
+    int n_pair;
 } edmi_workspace;
 
 /** Why Newton stopped (a successful step). */

@@ -26,7 +26,7 @@
  *     s = up(s, R) + 3R*N                                        force[N][3]
  *     sizeof(edmi_system) = up(s, RP)
  *   edmi_link_ws   = 20R                                         r0[3], 8 scalars, k[9]
- *   edmi_workspace = (9N^2 + 22N) R + L*20R + D*9R                all reals: no padding
+ *   edmi_workspace = up((9N^2 + 22N) R + L*20R + D*9R + 4L + 4, R)  reals, order[L], n_pair
  * The 22N reals are q1, p1, rq, rp, dp (3 each), sq, sp, nq, np (1 each) and rhs (3); 9N^2
  * is the Newton matrix; 9 reals per damper its tangent block. */
 #include "../edmi.h"
@@ -52,21 +52,24 @@
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N)
 #define TGT_SYSTEM TGT_UP(TGT_S5, TGT_RP)
 #define TGT_WORKSPACE \
-    ((9u * TGT_N * TGT_N + 22u * TGT_N + 20u * TGT_L + 9u * TGT_D) * TGT_R)
+    TGT_UP((9u * TGT_N * TGT_N + 22u * TGT_N + 20u * TGT_L + 9u * TGT_D) * TGT_R + 4u * TGT_L + 4u, TGT_R)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
  * K + 9R N^2 + b N + l L + d D + pad, pad = 4 bytes (alignment around the int array
  * forced[N] before force[N][3]) when R = 8 and N is even, or R = 4, P = 8 and N is odd:
- *   float:  K = 64 with 1-byte enums (arm-none-eabi), 72 with 4-byte ones; b = 132, d = 44;
- *           l = 124 with 4-byte pointers, 144 with 8-byte ones
- *   double: K = 108 with 1-byte enums, 116 with 4-byte ones; b = 260, d = 88;
- *           l = 232 with 4-byte pointers, 240 with 8-byte ones */
-#define TGT_CLOSED_K ((TGT_R == 4u ? 64u : 108u) + (TGT_E == 4u ? 8u : 0u))
+ *   float:  K = 68 with 1-byte enums (arm-none-eabi), 76 with 4-byte ones; b = 132, d = 44;
+ *           l = 128 with 4-byte pointers, 148 with 8-byte ones
+ *   double: K = 112 with 1-byte enums, 120 with 4-byte ones; b = 260, d = 88;
+ *           l = 236 with 4-byte pointers, 244 with 8-byte ones; and 4 more bytes of pad
+ *           when L is even (the workspace's int tail order[L], n_pair rounded up to 8) */
+#define TGT_CLOSED_K ((TGT_R == 4u ? 68u : 112u) + (TGT_E == 4u ? 8u : 0u))
 #define TGT_CLOSED_B (TGT_R == 4u ? 132u : 260u)
-#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 124u : 232u) : (TGT_R == 4u ? 144u : 240u))
+#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 128u : 236u) : (TGT_R == 4u ? 148u : 244u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_PAD                                                                      \
-    (TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) : 0u)
+    ((TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) \
+                  : 0u) +                                                                   \
+     (TGT_R == 8u && TGT_L % 2u == 0u ? 4u : 0u))
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + 9u * TGT_R * TGT_N * TGT_N + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L + \
      TGT_CLOSED_D * TGT_D + TGT_CLOSED_PAD)
