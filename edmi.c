@@ -18,9 +18,6 @@
 /* At most this many halvings of a Newton correction that left the domain (down to 1/256). */
 #define EDMI__MAX_HALVINGS 8
 
-/* Newton accepts a residual within this factor of its estimated round-off floor. */
-#define EDMI__FLOOR_FACTOR EDMI_R(8.0)
-
 /* sqrt(eps): a residual reduced this far below the predictor's is in Newton's quadratic
  * regime, where (the tangent being exact) only round-off stops it from shrinking. */
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
@@ -250,28 +247,6 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
     return EDMI_OK;
 }
 
-/* Round-off scale of V': |computed V'(r) - V'(r)| <~ eps * this. Not eps |V'|: near a rest
- * length the terms that cancel (r - r0, r^2 - L^2, the attractive and repulsive LJ parts) are
- * much larger than V' itself. Newton's stopping test uses it to know its round-off floor. */
-static edmi_real edmi__dv_roundoff(const edmi_potential *pot, edmi_real r, const edmi_pot_parts *pp)
-{
-    edmi_real a = pot->a, b = pot->b;
-    switch (pot->kind) {
-    case EDMI_POT_HARMONIC:
-        return a * (r + b);
-    case EDMI_POT_QUARTIC:
-        return a * r * (r * r + b * b);
-    case EDMI_POT_NEO_HOOKE:
-        return a / EDMI_R(3.0) * (r + b) * (r * r + r * b + b * b) / (r * r);
-    case EDMI_POT_INVERSE:
-        return edmi__abs(pp->v[1]);
-    case EDMI_POT_LJ:
-    case EDMI_POT_USER:
-    default:
-        return edmi__abs(pp->c[1]) + edmi__abs(pp->e[1]);
-    }
-}
-
 /* Complete homogeneous polynomial h = sum_{j=0..m} a^j b^(m-j) and dh/da, by Horner in a
  * (all terms positive for a, b > 0: no cancellation). */
 static void edmi__homog(int m, edmi_real a, edmi_real b, edmi_real *h, edmi_real *ha)
@@ -357,10 +332,10 @@ typedef struct edmi__at_end {
 } edmi__at_end;
 
 /* LG (eq. LaBudde-Greenspan-approximation): the quotient as written. Its cancellation error
- * eps (|V(d_n+1)| + |V(d_n)|) / |d_n+1 - d_n| is returned in *err for the stopping test. The
- * exact tangent (V'(d_n+1) - Lambda)/(d_n+1 - d_n) has error eps |V| / (d_n+1 - d_n)^2; its
- * limit V''(d_n+1)/2 has error |d_n+1 - d_n| |V'''| / 6: use whichever is smaller (the tangent
- * only steers Newton, the solution is set by the residual). */
+ * eps (|V(d_n+1)| + |V(d_n)|) / |d_n+1 - d_n| is returned in *err. The exact tangent
+ * (V'(d_n+1) - Lambda)/(d_n+1 - d_n) has error eps |V| / (d_n+1 - d_n)^2; its limit
+ * V''(d_n+1)/2 has error |d_n+1 - d_n| |V'''| / 6: use whichever is smaller (the tangent only
+ * steers Newton, the solution is set by the residual). */
 static void edmi__lambda_lg_quotient(const edmi_link_ws *w, const edmi__at_end *e,
                                      edmi_real *lam, edmi_real *dlam, edmi_real *err)
 {
@@ -470,9 +445,40 @@ typedef struct edmi__link_eval {
     edmi_real beta;
     edmi_real gamma;
     edmi_real u[3];
-    edmi_real beta_err; /* round-off in beta beyond a few eps |beta| (the LG quotient's) */
+    edmi_real beta_err; /* the LG quotient's cancellation error in beta */
     int switched;       /* LG used its alternate */
 } edmi__link_eval;
+
+/* A harmonic spring of rest length 0, V = k/2 d^2 = k/2 |r|^2, is a quadratic function of
+ * the link vector, smooth at d = 0 (a haptic virtual coupling). The general forms below
+ * divide by d_m or d_n + d_n+1; their limits are closed forms. With dd = d_n+1 - d_n:
+ *   MP  V'(d_m)/d_m                                   = k;
+ *   LG  2 [k/2 (d_n + d_n+1)] / (d_n + d_n+1)         = k;
+ *   PM  2 [k d_avg + dd^2/24 (0 + 0)] / (d_n + d_n+1)  = k   (V''' = 0);
+ *   PT  2 [k (d_n + d_n+1)/2 - 0] / (d_n + d_n+1)     = k;
+ * so each gives f = dt k r_m, the linear force, with tangent dt k/2 I (gamma = 0);
+ *   GE  2 [V_c'(d_n+1) + V_e'(d_n)] / (d_n + d_n+1) = 2 k d_n+1 / (d_n + d_n+1) in [0, 2k]
+ *       (V_c = V, V_e = 0): bounded; at d_n = d_n+1 = 0 r_m = 0 and f = 0 whatever beta
+ *       (take k); d beta / d r_n+1 = 2 k d_n / (d_n + d_n+1)^2 r_n+1/d_n+1, bounded by 2k/d_n
+ *       and taken as 0 at d_n+1 = 0 (where |r_n+1| has no derivative). */
+static int edmi__is_linear(const edmi_potential *pot)
+{
+    return pot->kind == EDMI_POT_HARMONIC && pot->b == EDMI__ZERO;
+}
+
+static void edmi__beta_linear(edmi_scheme scheme, edmi_real k, const edmi_link_ws *w,
+                              const edmi_real r1[3], edmi__link_eval *le)
+{
+    edmi_real d1 = edmi__norm(r1), s = w->d0 + d1;
+    le->beta = k;
+    le->gamma = EDMI__ZERO;
+    edmi__copy3(r1, le->u);
+    if (scheme == EDMI_GE && s > EDMI__ZERO) {
+        le->beta = EDMI_R(2.0) * k * (d1 / s);
+        if (d1 > EDMI__ZERO)
+            le->gamma = EDMI_R(2.0) * k * (w->d0 / s) / (s * d1);
+    }
+}
 
 /* f_mp: beta = V'(d_m)/d_m with d_m = |r_m| (one-point Gauss, section 3.2). */
 static edmi_status edmi__beta_mp(const edmi_potential *pot, const edmi_real rm[3],
@@ -554,10 +560,12 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
  * Residuals and consistent tangent (section 3.4, many-body form of section 4.1)
  * ======================================================================================== */
 
-/* Second end of a link in the configuration q (rows per body). */
-static const edmi_real *edmi__end_b(const edmi_link *lk, const edmi_real (*q)[3])
+/* Second end of a link at the end of the step: body b in the configuration q (rows per
+ * body), or the anchor where it is at the end of the step (work->lw[j].x1). */
+static const edmi_real *edmi__end_b(const edmi_link *lk, const edmi_link_ws *w,
+                                    const edmi_real (*q)[3])
 {
-    return lk->b == EDMI_ANCHOR ? lk->anchor : q[lk->b];
+    return lk->b == EDMI_ANCHOR ? w->x1 : q[lk->b];
 }
 
 /* Link vector q_A - q_B (or q_A - anchor) of the system's current state. */
@@ -566,7 +574,8 @@ static void edmi__link_vector(const edmi_system *sys, const edmi_link *lk, edmi_
     edmi__sub(sys->body[lk->a].q, lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q, r);
 }
 
-/* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use. */
+/* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use, and
+ * where each anchor is at the end of the step (edmi_move_anchor). */
 static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *work)
 {
     int i, back = sys->n_links;
@@ -582,8 +591,9 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         edmi_pot_parts p0;
         edmi_status st;
         edmi__link_vector(sys, lk, w->r0);
+        edmi__copy3(lk->anchor, w->x1);
         w->d0 = edmi__norm(w->r0);
-        if (!(w->d0 > EDMI__ZERO))
+        if (!(w->d0 > EDMI__ZERO) && !(w->d0 == EDMI__ZERO && edmi__is_linear(&lk->pot)))
             return EDMI_ERR_COINCIDENT;
         st = edmi__pot_parts(&lk->pot, w->d0, &p0);
         if (st != EDMI_OK)
@@ -593,8 +603,9 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         w->dve0 = p0.e[1];
         w->d3p0 = p0.sp[3];
         w->d3m0 = p0.sm[3];
-        w->dv0_err = EDMI_EPS * edmi__dv_roundoff(&lk->pot, w->d0, &p0);
     }
+    for (i = 0; i < sys->n_moving; i++)
+        edmi__copy3(sys->anchor_next[sys->moving[i]], work->lw[sys->moving[i]].x1);
     return EDMI_OK;
 }
 
@@ -611,6 +622,13 @@ static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_r
     for (i = 0; i < 3; i++)
         rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
     m2 = edmi__dot(rm, rm);
+    if (m2 == EDMI__ZERO) { /* a zero-length link at mid-step: no direction, no impulse */
+        for (i = 0; i < 3; i++)
+            imp[i] = EDMI__ZERO;
+        for (i = 0; i < 9; i++)
+            k[i] = EDMI__ZERO;
+        return EDMI_OK;
+    }
     if (!(m2 > EDMI__ZERO))
         return EDMI_ERR_DIVERGED;
     s = edmi__dot(dr, rm);
@@ -635,45 +653,35 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
         int b = sys->forced[a];
         for (i = 0; i < 3; i++)
             rp[b][i] -= dt * sys->force[b][i];
-        work->np[b] += EDMI_EPS * dt * edmi__norm(sys->force[b]);
     }
     if (sys->has_field)
         for (a = 0; a < sys->n_bodies; a++) {
             edmi_real mdt = dt * sys->body[a].m;
             for (i = 0; i < 3; i++)
                 rp[a][i] -= mdt * sys->g[i];
-            work->np[a] += EDMI_EPS * mdt * edmi__norm(sys->g);
         }
     for (d = 0; d < sys->n_dampers; d++) {
-        const edmi_link *lk = &sys->link[sys->damper[d].link];
-        edmi_real r1[3], imp[3], ni;
+        int j = sys->damper[d].link;
+        const edmi_link *lk = &sys->link[j];
+        edmi_real r1[3], imp[3];
         edmi_status st;
-        edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
-        st = edmi__damper(&work->lw[sys->damper[d].link], sys->damper[d].c, r1, imp,
-                          work->kd[d]);
+        edmi__sub(q1[lk->a], edmi__end_b(lk, &work->lw[j], q1), r1);
+        st = edmi__damper(&work->lw[j], sys->damper[d].c, r1, imp, work->kd[d]);
         if (st != EDMI_OK)
             return st;
-        ni = EDMI_R(4.0) * EDMI_EPS * edmi__norm(imp);
-        work->np[lk->a] += ni;
         for (i = 0; i < 3; i++)
             rp[lk->a][i] += imp[i];
-        if (lk->b != EDMI_ANCHOR) {
-            work->np[lk->b] += ni;
+        if (lk->b != EDMI_ANCHOR)
             for (i = 0; i < 3; i++)
                 rp[lk->b][i] -= imp[i];
-        }
     }
     return EDMI_OK;
 }
 
-/* R_q, R_p at the trial end state (q1, p1), each link's tangent block (in work->lw), and
- * the round-off floors |R_q| and |R_p| cannot go below (work->nq, work->np): eps times the
- * magnitudes summed into them, plus the LG quotient's cancellation error. */
-/* One link's algorithmic force f = dt beta r_m for the end-of-step link vector r1, its tangent
- * block (into work->lw[j]) and the round-off floor of f (*nf). */
+/* One link's algorithmic force f = dt beta r_m for the end-of-step link vector r1 and its
+ * tangent block (into work->lw[j]). */
 static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                                    int j, const edmi_real r1[3], edmi_real f[3], edmi_real *nf,
-                                    int *switched)
+                                    int j, const edmi_real r1[3], edmi_real f[3], int *switched)
 {
     const edmi_link *lk = &sys->link[j];
     edmi_link_ws *w = &work->lw[j];
@@ -685,23 +693,24 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
         rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
     le.switched = 0;
     le.beta_err = EDMI__ZERO;
-    st = sys->params.scheme == EDMI_MP ? edmi__beta_mp(&lk->pot, rm, &le)
-                                       : edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
+    st = EDMI_OK;
+    if (edmi__is_linear(&lk->pot))
+        edmi__beta_linear(sys->params.scheme, lk->pot.a, w, r1, &le);
+    else if (sys->params.scheme == EDMI_MP)
+        st = edmi__beta_mp(&lk->pot, rm, &le);
+    else
+        st = edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
     if (st != EDMI_OK)
         return st;
     *switched = le.switched;
     w->beta = le.beta;
+    w->noise = dt * edmi__norm(rm) * le.beta_err;
     for (i = 0; i < 3; i++) {
         f[i] = dt * le.beta * rm[i];
         for (c = 0; c < 3; c++)
             w->k[3 * i + c] = dt * (le.gamma * rm[i] * le.u[c] +
                                     (i == c ? EDMI__HALF * le.beta : EDMI__ZERO));
     }
-    /* beta ~ V'/d: its round-off is a few eps |beta|, V''s own (2 evaluations near d_n),
-     * and the LG quotient's cancellation */
-    *nf = dt * edmi__norm(rm) *
-          (EDMI_R(4.0) * EDMI_EPS * edmi__abs(le.beta) + EDMI_R(2.0) * w->dv0_err / w->d0 +
-           le.beta_err);
     return EDMI_OK;
 }
 
@@ -710,29 +719,24 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
                                   edmi_real (*rq)[3], edmi_real (*rp)[3], int *switches)
 {
     int a, i, k, nsw = 0, sw;
-    edmi_real r1[3], f[3], nf;
+    edmi_real r1[3], f[3];
     edmi_status st;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real h = dt / bd->m * EDMI__HALF;
-        edmi_real np1 = edmi__norm(p1[a]), np0 = edmi__norm(bd->p);
         for (i = 0; i < 3; i++) {
             rq[a][i] = q1[a][i] - bd->q[i] - h * (bd->p[i] + p1[a][i]);
             rp[a][i] = p1[a][i] - bd->p[i];
         }
-        work->nq[a] = EDMI_EPS * (edmi__norm(q1[a]) + edmi__norm(bd->q) + h * (np0 + np1));
-        work->np[a] = EDMI_EPS * (np0 + np1);
     }
     /* Pair links, then anchor links (work->order, set once per step): no per-link branch. */
     for (k = 0; k < work->n_pair; k++) {
         const edmi_link *lk = &sys->link[work->order[k]];
         edmi__sub(q1[lk->a], q1[lk->b], r1);
-        st = edmi__link_force(sys, work, dt, work->order[k], r1, f, &nf, &sw);
+        st = edmi__link_force(sys, work, dt, work->order[k], r1, f, &sw);
         if (st != EDMI_OK)
             return st;
         nsw += sw;
-        work->np[lk->a] += nf;
-        work->np[lk->b] += nf;
         for (i = 0; i < 3; i++) {
             rp[lk->a][i] += f[i];
             rp[lk->b][i] -= f[i];
@@ -740,12 +744,11 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
     }
     for (k = work->n_pair; k < sys->n_links; k++) {
         const edmi_link *lk = &sys->link[work->order[k]];
-        edmi__sub(q1[lk->a], lk->anchor, r1);
-        st = edmi__link_force(sys, work, dt, work->order[k], r1, f, &nf, &sw);
+        edmi__sub(q1[lk->a], work->lw[work->order[k]].x1, r1);
+        st = edmi__link_force(sys, work, dt, work->order[k], r1, f, &sw);
         if (st != EDMI_OK)
             return st;
         nsw += sw;
-        work->np[lk->a] += nf;
         for (i = 0; i < 3; i++)
             rp[lk->a][i] += f[i];
     }
@@ -1006,23 +1009,25 @@ static void edmi__set_scales(const edmi_system *sys, edmi_workspace *work, edmi_
     }
 }
 
-/* The scaled residual and, in *floor, the same measure of its round-off floor. */
-static edmi_real edmi__scaled_residual(const edmi_system *sys, const edmi_workspace *work,
-                                       edmi_real *floor)
+/* The scaled norm of a pair of per-body position and momentum blocks (dq in rows of 3). */
+static edmi_real edmi__scaled_norm(const edmi_system *sys, const edmi_workspace *work,
+                                   const edmi_real *dq, const edmi_real (*dp)[3])
 {
-    edmi_real r = EDMI__ZERO, f = EDMI__ZERO;
+    edmi_real r = EDMI__ZERO;
     int a;
     for (a = 0; a < sys->n_bodies; a++) {
-        r = edmi__max(r, edmi__norm(work->rq[a]) / work->sq[a]);
-        r = edmi__max(r, edmi__norm(work->rp[a]) / work->sp[a]);
-        f = edmi__max(f, work->nq[a] / work->sq[a]);
-        f = edmi__max(f, work->np[a] / work->sp[a]);
+        r = edmi__max(r, edmi__norm(dq + 3 * a) / work->sq[a]);
+        r = edmi__max(r, edmi__norm(dp[a]) / work->sp[a]);
     }
-    *floor = f;
     return r;
 }
 
-/* Residual, tangent, scaled residual and floor at the current iterate. */
+static edmi_real edmi__scaled_residual(const edmi_system *sys, const edmi_workspace *work)
+{
+    return edmi__scaled_norm(sys, work, work->rq[0], (const edmi_real (*)[3])work->rp);
+}
+
+/* Residual, tangent and scaled residual at the current iterate. */
 static edmi_status edmi__evaluate(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                   edmi_real *r, edmi_step_result *res)
 {
@@ -1030,7 +1035,7 @@ static edmi_status edmi__evaluate(const edmi_system *sys, edmi_workspace *work, 
                                     (const edmi_real (*)[3])work->p1, work->rq, work->rp,
                                     &res->lg_switches);
     if (st == EDMI_OK)
-        *r = edmi__scaled_residual(sys, work, &res->floor);
+        *r = edmi__scaled_residual(sys, work);
     return st;
 }
 
@@ -1039,7 +1044,7 @@ static edmi_status edmi__evaluate(const edmi_system *sys, edmi_workspace *work, 
  * at omega dt >> 1 plain Newton reaches the solution along a non-monotone path that a
  * monotone line search blocks (measured on the paper's spring at dt = 0.5). */
 static edmi_status edmi__line_search(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                                     edmi_real *r, edmi_step_result *res)
+                                     edmi_real *r, edmi_step_result *res, edmi_real *moved)
 {
     edmi_real lambda = EDMI__ONE;
     edmi_status st;
@@ -1052,6 +1057,7 @@ static edmi_status edmi__line_search(const edmi_system *sys, edmi_workspace *wor
         st = edmi__evaluate(sys, work, dt, r, res);
         res->halvings++;
     }
+    *moved = lambda;
     return st;
 }
 
@@ -1063,8 +1069,10 @@ static int edmi__params_valid(const edmi_params *p)
            (p->lg_alt == EDMI_ALT_JANZ || p->lg_alt == EDMI_ALT_GONZALEZ ||
             p->lg_alt == EDMI_ALT_GE || p->lg_alt == EDMI_ALT_PM || p->lg_alt == EDMI_ALT_PT) &&
            edmi__finite(p->tol_q) && p->tol_q > EDMI__ZERO && edmi__finite(p->tol_r) &&
-           p->tol_r > EDMI__ZERO && edmi__finite(p->tol_a) && p->tol_a > EDMI__ZERO &&
-           p->l_max >= 1;
+           p->tol_r >= EDMI__ZERO && edmi__finite(p->tol_a) && p->tol_a >= EDMI__ZERO &&
+           p->l_max >= 1 &&
+           (p->guard == EDMI_GUARD_AUTO || p->guard == EDMI_GUARD_ON ||
+            p->guard == EDMI_GUARD_OFF);
 }
 
 /* Body a exists; b is an anchor or another existing body. */
@@ -1092,6 +1100,15 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
         if (b < 0 || b >= sys->n_bodies)
             return EDMI_ERR_INDEX;
         if (!edmi__finite3(sys->force[b]))
+            return EDMI_ERR_NONFINITE;
+    }
+    if (sys->n_moving < 0 || sys->n_moving > sys->n_links)
+        return EDMI_ERR_CAPACITY;
+    for (i = 0; i < sys->n_moving; i++) {
+        int j = sys->moving[i];
+        if (j < 0 || j >= sys->n_links || sys->link[j].b != EDMI_ANCHOR)
+            return EDMI_ERR_INDEX;
+        if (!edmi__finite3(sys->anchor_next[j]))
             return EDMI_ERR_NONFINITE;
     }
     if (sys->has_field && !edmi__finite3(sys->g))
@@ -1131,47 +1148,1098 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
     return edmi__validate_effects(sys);
 }
 
-/* The discrete energy balance of the converged step (before it is committed):
- * H_n+1 - H_n = work_ext - diss_scheme - diss_damping up to the Newton residual. */
-static edmi_status edmi__energy_report(const edmi_system *sys, edmi_workspace *work,
-                                       edmi_real dt, edmi_step_result *res)
+/* ==========================================================================================
+ * Double-word arithmetic: a real number held as the unevaluated sum hi + lo of two
+ * edmi_reals (|lo| <= ulp(hi)/2), about twice the working precision's digits. The passivity
+ * guard evaluates the change of H in it. Algorithms and error bounds (u = eps/2): Joldes,
+ * Muller, Popescu, "Tight and rigorous error bounds for basic building blocks of double-word
+ * arithmetic", ACM TOMS 44 (2017): 2Sum and Fast2Sum exact; TwoProd exact (fused multiply-
+ * add, or Veltkamp/Dekker splitting, exact barring overflow and underflow); DW+DW <= 3u^2,
+ * DW*FP <= 2u^2, DW*DW <= 7u^2, DW/DW <= 15u^2 + 56u^3 relative; the square root one
+ * Newton step from sqrt(hi), <= 4u^2 relative.
+ * ======================================================================================== */
+
+typedef struct edmi__dw {
+    edmi_real hi, lo;
+} edmi__dw;
+
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+#define EDMI__SPLIT EDMI_R(134217729.0) /* 2^27 + 1 */
+#define EDMI__REAL_MIN DBL_MIN
+#else
+#define EDMI__SPLIT EDMI_R(4097.0) /* 2^12 + 1 */
+#define EDMI__REAL_MIN FLT_MIN
+#endif
+
+/* The fused multiply-add of the port, if the hardware has one (EDMI_FMA in edmi.h). */
+#ifndef EDMI_FMA
+#if EDMI_PREC_(EDMI_REAL) == EDMI_FLOAT_ && defined(__FP_FAST_FMAF)
+#define EDMI_FMA(a, b, c) __builtin_fmaf(a, b, c)
+#elif EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_ && defined(__FP_FAST_FMA)
+#define EDMI_FMA(a, b, c) __builtin_fma(a, b, c)
+#endif
+#endif
+
+static edmi__dw edmi__dw_of(edmi_real x)
+{
+    edmi__dw r;
+    r.hi = x;
+    r.lo = EDMI__ZERO;
+    return r;
+}
+
+/* a + b exactly, for |a| >= |b| (or a == 0). */
+static edmi__dw edmi__fast_two_sum(edmi_real a, edmi_real b)
+{
+    edmi__dw r;
+    r.hi = a + b;
+    r.lo = b - (r.hi - a);
+    return r;
+}
+
+/* a + b exactly (Knuth's 2Sum). */
+static edmi__dw edmi__two_sum(edmi_real a, edmi_real b)
+{
+    edmi__dw r;
+    edmi_real a1, b1;
+    r.hi = a + b;
+    a1 = r.hi - b;
+    b1 = r.hi - a1;
+    r.lo = (a - a1) + (b - b1);
+    return r;
+}
+
+/* a * b exactly. */
+static edmi__dw edmi__two_prod(edmi_real a, edmi_real b)
+{
+    edmi__dw r;
+    r.hi = a * b;
+#ifdef EDMI_FMA
+    r.lo = EDMI_FMA(a, b, -r.hi);
+#else
+    {
+        edmi_real ca = EDMI__SPLIT * a, cb = EDMI__SPLIT * b;
+        edmi_real ah = ca - (ca - a), al = a - ah, bh = cb - (cb - b), bl = b - bh;
+        r.lo = ((ah * bh - r.hi) + ah * bl + al * bh) + al * bl;
+    }
+#endif
+    return r;
+}
+
+static edmi__dw edmi__dw_add(edmi__dw x, edmi__dw y)
+{
+    edmi__dw s = edmi__two_sum(x.hi, y.hi), t = edmi__two_sum(x.lo, y.lo), v;
+    v = edmi__fast_two_sum(s.hi, s.lo + t.hi);
+    return edmi__fast_two_sum(v.hi, t.lo + v.lo);
+}
+
+static edmi__dw edmi__dw_neg(edmi__dw x)
+{
+    x.hi = -x.hi;
+    x.lo = -x.lo;
+    return x;
+}
+
+static edmi__dw edmi__dw_sub(edmi__dw x, edmi__dw y) { return edmi__dw_add(x, edmi__dw_neg(y)); }
+
+static edmi__dw edmi__dw_mul_r(edmi__dw x, edmi_real y)
+{
+    edmi__dw c = edmi__two_prod(x.hi, y), t = edmi__fast_two_sum(c.hi, x.lo * y);
+    return edmi__fast_two_sum(t.hi, t.lo + c.lo);
+}
+
+static edmi__dw edmi__dw_mul(edmi__dw x, edmi__dw y)
+{
+    edmi__dw c = edmi__two_prod(x.hi, y.hi);
+    return edmi__fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
+}
+
+static edmi__dw edmi__dw_div(edmi__dw x, edmi__dw y)
+{
+    edmi_real th = x.hi / y.hi;
+    edmi__dw r = edmi__dw_mul_r(y, th);
+    return edmi__fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
+}
+
+static edmi__dw edmi__dw_sqrt(edmi__dw x)
+{
+    edmi_real s;
+    edmi__dw p;
+    if (!(x.hi > EDMI__ZERO))
+        return edmi__dw_of(EDMI__ZERO);
+    s = EDMI_SQRT(x.hi);
+    p = edmi__two_prod(s, s);
+    return edmi__fast_two_sum(s, (((x.hi - p.hi) - p.lo) + x.lo) / (EDMI_R(2.0) * s));
+}
+
+static edmi_real edmi__dw_real(edmi__dw x) { return x.hi + x.lo; }
+
+/* |v|^2 of a double-word vector. */
+static edmi__dw edmi__dw_sq3(const edmi__dw v[3])
+{
+    edmi__dw s = edmi__dw_mul(v[0], v[0]);
+    s = edmi__dw_add(s, edmi__dw_mul(v[1], v[1]));
+    return edmi__dw_add(s, edmi__dw_mul(v[2], v[2]));
+}
+
+/* a - b exactly, per component. */
+static void edmi__dw_diff3(const edmi_real a[3], const edmi_real b[3], edmi__dw out[3])
+{
+    out[0] = edmi__two_sum(a[0], -b[0]);
+    out[1] = edmi__two_sum(a[1], -b[1]);
+    out[2] = edmi__two_sum(a[2], -b[2]);
+}
+
+/* a . b of two real vectors, exactly up to the final double-word roundings. */
+static edmi__dw edmi__dw_dot(const edmi_real a[3], const edmi_real b[3])
+{
+    edmi__dw s = edmi__two_prod(a[0], b[0]);
+    s = edmi__dw_add(s, edmi__two_prod(a[1], b[1]));
+    return edmi__dw_add(s, edmi__two_prod(a[2], b[2]));
+}
+
+/* f . (a - b) with a - b formed exactly. */
+static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const edmi_real b[3])
+{
+    edmi__dw d[3], s;
+    int i;
+    edmi__dw_diff3(a, b, d);
+    s = edmi__dw_of(EDMI__ZERO);
+    for (i = 0; i < 3; i++)
+        s = edmi__dw_add(s, edmi__dw_mul_r(d[i], f[i]));
+    return s;
+}
+
+/* Error bound of a double-word energy term: |computed - exact| <= EDMI__DW_ERR * M, with M
+ * the term's magnitude (the sum of the absolute values its formula adds). Each term below
+ * passes through at most a dozen double-word operations of <= 15u^2 each; with the growth
+ * of relative errors through the powers (LJ's (s/d)^6 multiplies the error of s/d by 6) the
+ * worst is about 350 u^2 (LJ), so 1024 u^2 = 256 eps^2 leaves a factor 3. Underflow makes
+ * TwoProd inexact below ~2^p REAL_MIN: EDMI__DW_TINY per term covers it. */
+#define EDMI__DW_ERR (EDMI_R(256.0) * EDMI_EPS * EDMI_EPS)
+#define EDMI__DW_TINY (EDMI_R(1024.0) * EDMI__REAL_MIN)
+
+/* A user potential is evaluated by its callback in working precision: the guard assumes the
+ * callback's c + e is within this many eps of |c| + |e| (plus |V'| times the rounding of d). */
+#define EDMI__USER_ERR (EDMI_R(8.0) * EDMI_EPS)
+
+/* V of a link whose squared length is s (and length d = sqrt s), in double-word, with the
+ * bound *err on its error. The zero-rest-length harmonic spring needs no square root. */
+static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
+                                edmi_real *err)
+{
+    edmi_real a = pot->a, b = pot->b, m;
+    edmi__dw x, t;
+    edmi_pot_parts pp;
+    switch (pot->kind) {
+    case EDMI_POT_HARMONIC:
+        if (b == EDMI__ZERO) {
+            *v = edmi__dw_mul_r(s, EDMI__HALF * a);
+            m = EDMI__HALF * a * s.hi;
+        } else {
+            x = edmi__dw_add(d, edmi__dw_of(-b));
+            *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
+            m = EDMI__HALF * a * (d.hi + b) * (d.hi + b);
+        }
+        break;
+    case EDMI_POT_QUARTIC:
+        x = edmi__dw_sub(s, edmi__two_prod(b, b));
+        *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI_R(0.25) * a);
+        m = EDMI_R(0.25) * a * (s.hi + b * b) * (s.hi + b * b);
+        break;
+    case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
+        x = edmi__dw_add(d, edmi__dw_of(-b));
+        t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add(d, edmi__dw_of(EDMI_R(2.0) * b)));
+        *v = edmi__dw_div(edmi__dw_mul_r(t, a), edmi__dw_mul_r(d, EDMI_R(6.0)));
+        m = a / EDMI_R(6.0) * (d.hi + b) * (d.hi + b) * (d.hi + EDMI_R(2.0) * b) / d.hi;
+        break;
+    case EDMI_POT_LJ: /* 4 eps t^6 (t^6 - 1), t = sigma / d */
+        t = edmi__dw_div(edmi__dw_of(b), d);
+        t = edmi__dw_mul(t, t);
+        t = edmi__dw_mul(edmi__dw_mul(t, t), t);
+        *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add(t, edmi__dw_of(-EDMI__ONE))),
+                            EDMI_R(4.0) * a);
+        m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
+        break;
+    case EDMI_POT_INVERSE:
+        *v = edmi__dw_div(edmi__dw_of(-a), d);
+        m = edmi__abs(a) / d.hi;
+        break;
+    case EDMI_POT_USER:
+    default:
+        if (pot->fn(pot->ctx, d.hi, &pp) != 0)
+            return EDMI_ERR_DIVERGED;
+        *v = edmi__two_sum(pp.c[0], pp.e[0]);
+        *err = EDMI__USER_ERR * (edmi__abs(pp.c[0]) + edmi__abs(pp.e[0]) +
+                                 edmi__abs(pp.c[1] + pp.e[1]) * d.hi) +
+               EDMI__DW_TINY;
+        return EDMI_OK;
+    }
+    *err = EDMI__DW_ERR * m + EDMI__DW_TINY;
+    return EDMI_OK;
+}
+
+/* ==========================================================================================
+ * Energy-safe stepping (README, "Energy-safe stepping").
+ *
+ * With the guard on, every stored step satisfies
+ *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor
+ * exactly, for the stored values and the reported works. A working-precision H is ~eps H off
+ * while the per-step changes that matter are far smaller (PM on the paper's spring dissipates
+ * ~4e-10 H per step), so the change is evaluated term by term (each kinetic and link energy
+ * at both ends of the step) in double-word arithmetic with a rigorous error bound.
+ * Rounding the step's solution to the working precision's grid moves H by up to
+ * ~eps |F| |q| either way, every step (~5e-7 H on the spring in float): a guard that only cut
+ * rises would drain ~0.4 of that per step. So the guard chooses the stored momenta among
+ * nearby grid points (energy-aware rounding) such that H changes by what the scheme's own
+ * law says, work - diss_scheme - diss_damping, as closely as the grid allows, and never by
+ * more than the work. Larger departures (a loose Newton tolerance, MP or LG under
+ * EDMI_GUARD_ON) are first closed by an impulse along one link, which keeps L, J and C.
+ * ======================================================================================== */
+
+/* The energy bookkeeping of one step in double-word arithmetic. */
+typedef struct edmi__balance {
+    edmi__dw dv;       /* V(q_n+1) - V(q_n): links (anchors where they are) and field */
+    edmi__dw dk;       /* K(p_n+1) - K(p_n) */
+    edmi__dw w;        /* work_ext + work_anchor as reported (their exact sum) */
+    edmi__dw scheme;   /* diss_scheme: sum over links of beta (d_n+1^2 - d_n^2)/2 - dV */
+    edmi_real err_v;   /* bound on |error| of dv (and of scheme) */
+    edmi_real err_k;   /* bound on |error| of dk */
+} edmi__balance;
+
+static int edmi__same3(const edmi_real a[3], const edmi_real b[3])
+{
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+/* dv, scheme and err_v for the end state q1 (anchors at work->lw[j].x1). A term whose inputs
+ * did not change is skipped: its change is exactly 0 (a body at rest certifies exactly). */
+static edmi_status edmi__delta_v(const edmi_system *sys, const edmi_workspace *work,
+                                 const edmi_real (*q1)[3], edmi__balance *bal)
+{
+    int j, a;
+    bal->dv = edmi__dw_of(EDMI__ZERO);
+    bal->scheme = edmi__dw_of(EDMI__ZERO);
+    bal->err_v = EDMI__ZERO;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        const edmi_link_ws *w = &work->lw[j];
+        edmi__dw r0[3], r1[3], s0, s1, d0, d1, v0, v1, dv;
+        edmi_real e0, e1;
+        const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
+        const edmi_real *b1 = edmi__end_b(lk, w, q1);
+        edmi_status st;
+        if (edmi__same3(sys->body[lk->a].q, q1[lk->a]) && edmi__same3(b0, b1))
+            continue;
+        edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
+        edmi__dw_diff3(q1[lk->a], b1, r1);
+        s0 = edmi__dw_sq3(r0);
+        s1 = edmi__dw_sq3(r1);
+        d0 = edmi__dw_sqrt(s0);
+        d1 = edmi__dw_sqrt(s1);
+        st = edmi__pot_dw(&lk->pot, s0, d0, &v0, &e0);
+        if (st == EDMI_OK)
+            st = edmi__pot_dw(&lk->pot, s1, d1, &v1, &e1);
+        if (st != EDMI_OK)
+            return st;
+        dv = edmi__dw_sub(v1, v0);
+        bal->dv = edmi__dw_add(bal->dv, dv);
+        bal->err_v += e0 + e1;
+        /* the work of f = dt beta r_m over the step, per dt: beta (d_n+1^2 - d_n^2) / 2 */
+        bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_sub(edmi__dw_mul_r(edmi__dw_sub(s1, s0),
+                                                                           EDMI__HALF * w->beta),
+                                                            dv));
+    }
+    if (sys->has_field) /* V = -sum m g . q */
+        for (a = 0; a < sys->n_bodies; a++) {
+            edmi__dw wg;
+            if (edmi__same3(q1[a], sys->body[a].q))
+                continue;
+            wg = edmi__dw_work(sys->g, q1[a], sys->body[a].q);
+            bal->dv = edmi__dw_sub(bal->dv, edmi__dw_mul_r(wg, sys->body[a].m));
+            bal->err_v += EDMI__DW_ERR * sys->body[a].m *
+                              (edmi__abs(wg.hi) + edmi__norm(sys->g) *
+                                                      (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q))) +
+                          EDMI__DW_TINY;
+        }
+    return EDMI_OK;
+}
+
+/* dk and err_k for the end momenta p1. */
+static void edmi__delta_k(const edmi_system *sys, const edmi_real (*p1)[3], edmi__balance *bal)
+{
+    int a;
+    bal->dk = edmi__dw_of(EDMI__ZERO);
+    bal->err_k = EDMI__ZERO;
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        edmi__dw s1, s0, m2;
+        if (edmi__same3(p1[a], bd->p))
+            continue;
+        s1 = edmi__dw_dot(p1[a], p1[a]);
+        s0 = edmi__dw_dot(bd->p, bd->p);
+        m2 = edmi__dw_of(EDMI_R(2.0) * bd->m);
+        bal->dk = edmi__dw_add(bal->dk, edmi__dw_div(edmi__dw_sub(s1, s0), m2));
+        bal->err_k += EDMI__DW_ERR * (s1.hi + s0.hi) / m2.hi + EDMI__DW_TINY;
+    }
+}
+
+/* Excess e = (dv + dk) - w of the stored state over the work, and a margin such that
+ * e + margin >= the exact excess. Both finite, or the state is beyond what the guard covers. */
+static int edmi__excess(const edmi__balance *bal, edmi_real *e, edmi_real *margin)
+{
+    edmi__dw x = edmi__dw_sub(edmi__dw_add(bal->dv, bal->dk), bal->w);
+    edmi_real t = bal->err_v + bal->err_k + edmi__abs(x.lo) +
+                  EDMI__DW_ERR * (edmi__abs(bal->dv.hi) + edmi__abs(bal->dk.hi) +
+                                  edmi__abs(bal->w.hi));
+    /* rounded upwards: the three sums above have relative error < 4 eps */
+    *margin = t + t * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN;
+    *e = x.hi;
+    return edmi__finite(x.hi) && edmi__finite(*margin);
+}
+
+/* One stored momentum component the energy-aware rounding may move: body a, axis i, value
+ * p, grid spacing u (one unit in the last place) and 2m. */
+typedef struct edmi__comp {
+    int a, i, low;
+    edmi_real p, u, m2;
+    edmi_real jq[3]; /* J's change per unit of momentum: q_a x e_i */
+} edmi__comp;
+
+/* Unit in the last place of a normal x (0 for zero, subnormal, inf, NaN); *low: the last
+ * bit of x's significand, a sign-free coin for the search order below. */
+static edmi_real edmi__ulp(edmi_real x, int *low)
+{
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+    union {
+        double r;
+        unsigned long long u;
+    } v;
+    unsigned long long e;
+    v.r = x;
+    *low = (int)(v.u & 1ULL);
+    e = (v.u >> 52) & 0x7ffULL;
+    if (e == 0 || e == 0x7ffULL)
+        return EDMI__ZERO;
+    v.u = e > 52 ? (e - 52) << 52 : 1ULL << (e - 1);
+    return v.r;
+#else
+    union {
+        float r;
+        unsigned long u;
+    } v;
+    unsigned long e;
+    v.u = 0;
+    v.r = x;
+    *low = (int)(v.u & 1UL);
+    e = (v.u >> 23) & 0xffUL;
+    if (e == 0 || e == 0xffUL)
+        return EDMI__ZERO;
+    v.u = e > 23 ? (e - 23) << 23 : 1UL << (e - 1);
+    return v.r;
+#endif
+}
+
+/* K's change when component c moves by k units: ((p + k u)^2 - p^2) / 2m. */
+static edmi_real edmi__comp_dk(const edmi__comp *c, int k)
+{
+    edmi_real v = c->p + (edmi_real)k * c->u;
+    return (v - c->p) * (v + c->p) / c->m2;
+}
+
+/* How far the energy-aware rounding moves the picked components (energy steps s0 >= s1 >=
+ * s2 per unit in the last place): the coarsest is solved within k0 units for each offset
+ * pair of the two finer ones, whose ranges cover the next coarser step, |k1| <= s0/(2 s1),
+ * |k2| <= s1/(2 s2), but at least EDMI__ROUND_MIN (81 pairs, energies interleaving ~80x
+ * finer than s0) and at most EDMI__ROUND_MAX. A unit of a finer component is a smaller
+ * momentum, so each moves the momentum by a few units of its largest component: J and L
+ * change like a few roundings. Normally an impulse along a link has done the bulk (keeping
+ * J) and k0 <= EDMI__ROUND_K0 finishes; the wide EDMI__ROUND_WIDE_K0 serves when no link
+ * can take the impulse (a circular orbit about an anchor). */
+#define EDMI__ROUND_MIN 1
+#define EDMI__ROUND_MAX 4
+#define EDMI__ROUND_K0 8
+#define EDMI__ROUND_WINDOW (EDMI_R(1.0) / EDMI_R(32.0))
+#define EDMI__ROUND_WIDE_K0 64
+
+/* The (up to) three momentum components whose units move K the most, coarsest first. */
+static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, edmi__comp c[3])
+{
+    const edmi_real (*p1)[3] = (const edmi_real (*)[3])work->p1;
+    edmi_real s[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
+    int a, i, n = 0, k;
+    for (a = 0; a < sys->n_bodies; a++)
+        for (i = 0; i < 3; i++) {
+            edmi__comp x;
+            edmi_real sx;
+            x.a = a;
+            x.i = i;
+            x.p = p1[a][i];
+            x.u = edmi__ulp(x.p, &x.low);
+            x.m2 = EDMI_R(2.0) * sys->body[a].m;
+            x.jq[i] = EDMI__ZERO; /* q x e_i */
+            x.jq[(i + 1) % 3] = work->q1[a][(i + 2) % 3];
+            x.jq[(i + 2) % 3] = -work->q1[a][(i + 1) % 3];
+            /* |p| >= 2^14 units: the offsets never cross zero or leave the binade by far */
+            if (!(x.u > EDMI__ZERO) || edmi__abs(x.p) < EDMI_R(16384.0) * x.u)
+                continue;
+            sx = edmi__abs(x.p) * x.u / sys->body[a].m;
+            if (n == 3 && sx <= s[2])
+                continue;
+            k = n < 3 ? n++ : 2; /* insertion into the list sorted by reach */
+            for (; k > 0 && s[k - 1] < sx; k--) {
+                c[k] = c[k - 1];
+                s[k] = s[k - 1];
+            }
+            c[k] = x;
+            s[k] = sx;
+        }
+    return n;
+}
+
+/* The offset of the coarsest component c, within k3 units, bringing base + dk closest to
+ * goal without exceeding hi; returns 0 if none within range. */
+static int edmi__solve_coarse(const edmi__comp *c, int k3, edmi_real base, edmi_real goal,
+                              edmi_real hi, int *k, edmi_real *got)
+{
+    edmi_real slope = EDMI_R(2.0) * c->p * c->u / c->m2, x = (goal - base) / slope, v;
+    int kk, dir = slope > EDMI__ZERO ? 1 : -1, step;
+    if (!(x > (edmi_real)(-k3 - 1) && x < (edmi_real)(k3 + 1)))
+        return 0;
+    kk = (int)(x + (x >= EDMI__ZERO ? EDMI__HALF : -EDMI__HALF));
+    for (step = 0; step < 3; step++) {
+        if (kk < -k3 || kk > k3)
+            return 0;
+        v = base + edmi__comp_dk(c, kk);
+        if (v <= hi) {
+            *k = kk;
+            *got = v;
+            return 1;
+        }
+        kk -= dir; /* one unit towards less kinetic energy */
+    }
+    return 0;
+}
+
+/* Range of a finer component: enough units to cover one unit of the next coarser one. */
+static int edmi__round_range(const edmi__comp *coarse, const edmi__comp *fine)
+{
+    edmi_real r = edmi__abs(coarse->p * coarse->u / coarse->m2) /
+                  edmi__abs(fine->p * fine->u / fine->m2);
+    return r >= (edmi_real)(2 * EDMI__ROUND_MAX) ? EDMI__ROUND_MAX
+           : r <= (edmi_real)(2 * EDMI__ROUND_MIN) ? EDMI__ROUND_MIN
+                                                  : (int)(EDMI__HALF * r) + 1;
+}
+
+/* The position moves of the energy-aware rounding: body a's components by -1, 0 or +1 unit
+ * in the last place (27 variants). Their energy steps, gradient of V - work_ext times the
+ * unit, are unrelated to the momentum steps: they break the momentum lattice's
+ * commensurability (two components of similar size make its energies cluster, leaving gaps
+ * of a whole momentum unit), and a unit of q changes J about as much as a unit of p. */
+typedef struct edmi__qmoves {
+    int a, n;          /* body; number of variants (1: positions not moved) */
+    edmi_real u[3];    /* units in the last place of q_a (0: component not moved) */
+    edmi_real g[3];    /* d(V - work_ext)/dq_a at q_n+1 */
+    edmi_real jp[3];   /* p_a, for J's change dq x p_a */
+} edmi__qmoves;
+
+/* Variant v in 0..26 as offsets -1, 0, +1 per component (0 is no move). */
+static void edmi__qvariant(int v, int o[3])
+{
+    static const int off[3] = {0, 1, -1};
+    o[0] = off[v % 3];
+    o[1] = off[(v / 3) % 3];
+    o[2] = off[v / 9];
+}
+
+/* x - floor(x) for |x| < 2^30. */
+static edmi_real edmi__frac(edmi_real x)
+{
+    edmi_real f = (edmi_real)(long)x;
+    return f > x ? x - f + EDMI__ONE : x - f;
+}
+
+/* Energy-aware rounding: position variant qv and momentum offsets k whose change of H - work
+ * is closest to goal (any within tol count as equal) and <= hi, and among those the one
+ * changing the momenta least: |dJ|^2 (J about the origin) plus, without anchor links,
+ * |dL|^2 l2 (l2 a squared length, so both are angular momenta). Without that second
+ * criterion the choice is blind to the directions the energy does not see, and J drifts
+ * (measured on the paper's spring in float: 1.6e-3 |J0| over 10^5 steps, 30x plain
+ * rounding). The coarsest momentum component is solved for each candidate; for each offset
+ * pair of the two finer ones only the position variants whose energies fall nearest the
+ * gap (modulo the coarsest unit: the variants are kept sorted by that residue) are tried.
+ * Returns 0 if none. */
+static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm, int k3,
+                              edmi_real goal, edmi_real hi, edmi_real tol, edmi_real l2, int k[3],
+                              int *qv)
+{
+    edmi_real best = EDMI_REAL_MAX, best_m = EDMI_REAL_MAX, got, m_ok, bq[27], jq[27][3], rq[27];
+    edmi_real unit = EDMI_R(2.0) * c[0].p * c[0].u / c[0].m2; /* K per unit of c[0], signed */
+    int order[27], v, j1, j2, lim1, lim2, k0, found = 0, j, lo, hi_i, w;
+    if (n == 0)
+        return 0;
+    lim1 = n >= 2 ? edmi__round_range(&c[0], &c[1]) : 0;
+    lim2 = n >= 3 ? edmi__round_range(&c[1], &c[2]) : 0;
+    /* good enough to stop: within tol, and J moved by at most twice what a one-unit move of
+     * any component does (plain rounding moves each by up to half a unit) */
+    m_ok = EDMI__ZERO;
+    for (j = 0; j < n; j++)
+        m_ok = edmi__max(m_ok, c[j].u * c[j].u * edmi__dot(c[j].jq, c[j].jq));
+    for (v = 0; v < qm->n; v++) { /* the position variants: energy, J change, residue */
+        edmi_real dq[3];
+        int o[3];
+        edmi__qvariant(v, o);
+        bq[v] = EDMI__ZERO;
+        for (j = 0; j < 3; j++) {
+            dq[j] = (edmi_real)o[j] * qm->u[j];
+            bq[v] += qm->g[j] * dq[j];
+        }
+        edmi__cross(dq, qm->jp, jq[v]);
+        if (v < 7) /* the single-unit moves */
+            m_ok = edmi__max(m_ok, edmi__dot(jq[v], jq[v]));
+        rq[v] = edmi__frac(bq[v] / unit);
+        for (j = v; j > 0 && rq[order[j - 1]] > rq[v]; j--) /* insertion by residue */
+            order[j] = order[j - 1];
+        order[j] = v;
+    }
+    m_ok *= EDMI_R(4.0);
+    /* fine offsets in order of size, 0, 1, -1, 2, -2, ...: the first candidate good enough is
+     * about the smallest move */
+    for (j1 = 0; j1 <= 2 * lim1; j1++) {
+        int i1 = (j1 & 1 ? 1 : -1) * ((j1 + 1) / 2);
+        edmi_real e1 = lim1 ? edmi__comp_dk(&c[1], i1) : EDMI__ZERO;
+        for (j2 = 0; j2 <= 2 * lim2; j2++) {
+            int i2 = (j2 & 1 ? 1 : -1) * ((j2 + 1) / 2);
+            edmi_real e12 = e1 + (lim2 ? edmi__comp_dk(&c[2], i2) : EDMI__ZERO);
+            edmi_real ft = edmi__frac((goal - e12) / unit);
+            /* the variants whose residue brackets ft, two on each side (cyclic) */
+            for (lo = 0, hi_i = qm->n; lo < hi_i;) {
+                int mid = (lo + hi_i) / 2;
+                if (rq[order[mid]] <= ft)
+                    lo = mid + 1;
+                else
+                    hi_i = mid;
+            }
+            for (w = -2; w < 2 && w < qm->n - 2; w++) {
+                edmi_real err, dj[3], dl[3], m;
+                int kk[3];
+                v = order[(lo + w + 2 * qm->n) % qm->n];
+                if (!edmi__solve_coarse(&c[0], k3, e12 + bq[v], goal, hi, &k0, &got))
+                    continue;
+                err = edmi__max(edmi__abs(got - goal), tol);
+                if (err > best)
+                    continue;
+                kk[0] = k0;
+                kk[1] = i1;
+                kk[2] = i2;
+                edmi__copy3(jq[v], dj);
+                for (j = 0; j < 3; j++)
+                    dl[j] = EDMI__ZERO;
+                for (j = 0; j < n; j++) {
+                    edmi_real x = (edmi_real)kk[j] * c[j].u;
+                    dj[0] += x * c[j].jq[0];
+                    dj[1] += x * c[j].jq[1];
+                    dj[2] += x * c[j].jq[2];
+                    dl[c[j].i] += x;
+                }
+                m = edmi__dot(dj, dj) + l2 * edmi__dot(dl, dl);
+                if (err < best || m < best_m) {
+                    best = err;
+                    best_m = m;
+                    found = 1;
+                    k[0] = k0;
+                    k[1] = i1;
+                    k[2] = i2;
+                    *qv = v;
+                    if (err <= tol && m <= m_ok) {
+                        return 1;
+                    }
+                }
+            }
+        }
+    }
+    return found;
+}
+
+/* Apply offsets k to the picked components of p1. */
+static void edmi__round_apply(edmi_workspace *work, const edmi__comp *c, int n, const int k[3])
+{
+    int j;
+    for (j = 0; j < n; j++)
+        work->p1[c[j].a][c[j].i] = c[j].p + (edmi_real)k[j] * c[j].u;
+}
+
+/* Change K by about `goal` with one impulse along the link that can best do it: equal and
+ * opposite on a pair's two bodies (keeps L, J, C), radial on an anchored body (keeps J about
+ * its anchor). The impulse lambda along the unit link vector u changes K by
+ * -lambda w + lambda^2 / (2 mu), w the ends' relative velocity along u, mu their reduced
+ * mass: it can remove at most mu w^2 / 2. Returns 0 if no link can. */
+static int edmi__guard_impulse(const edmi_system *sys, edmi_workspace *work, edmi_real goal)
+{
+    edmi_real best = EDMI__ZERO, u[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO}, bw = EDMI__ZERO;
+    edmi_real bmu = EDMI__ZERO, disc, lam;
+    int j, i, bj = -1;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+        edmi_real r[3], d, v[3], w, mu, cap;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, &work->lw[j], q1), r);
+        d = edmi__norm(r);
+        if (!(d > EDMI__ZERO))
+            continue;
+        mu = sys->body[lk->a].m;
+        for (i = 0; i < 3; i++)
+            v[i] = work->p1[lk->a][i] / mu;
+        if (lk->b != EDMI_ANCHOR) {
+            edmi_real mb = sys->body[lk->b].m;
+            for (i = 0; i < 3; i++)
+                v[i] -= work->p1[lk->b][i] / mb;
+            mu = mu * mb / (mu + mb);
+        }
+        w = edmi__dot(v, r) / d;
+        cap = EDMI__HALF * mu * w * w;
+        /* removing more than half of what the link holds would reverse its motion */
+        if (goal < EDMI__ZERO && cap < -goal * EDMI_R(2.0))
+            continue;
+        if (bj < 0 || cap > best) {
+            best = cap;
+            bj = j;
+            bw = w;
+            bmu = mu;
+            for (i = 0; i < 3; i++)
+                u[i] = r[i] / d;
+        }
+    }
+    if (bj < 0)
+        return 0;
+    /* the root of lambda^2/(2 mu) - lambda w - goal = 0 nearer 0, without cancellation */
+    disc = EDMI_SQRT(bw * bw + EDMI_R(2.0) * goal / bmu);
+    lam = -EDMI_R(2.0) * goal / (bw >= EDMI__ZERO ? bw + disc : bw - disc);
+    if (!edmi__finite(lam))
+        return 0;
+    for (i = 0; i < 3; i++) {
+        work->p1[sys->link[bj].a][i] -= lam * u[i];
+        if (sys->link[bj].b != EDMI_ANCHOR)
+            work->p1[sys->link[bj].b][i] += lam * u[i];
+    }
+    return 1;
+}
+
+/* The frame the fallback and the drag keep: the centre of mass's velocity L/M when L is
+ * conserved (no anchor links, field or ports), else the anchors' rest frame (0). */
+static void edmi__frame_velocity(const edmi_system *sys, const edmi_workspace *work,
+                                 const edmi_real (*p)[3], edmi_real v[3])
+{
+    edmi_real mass = EDMI__ZERO;
+    int a, i;
+    for (i = 0; i < 3; i++)
+        v[i] = EDMI__ZERO;
+    if (work->n_pair < sys->n_links || sys->has_field || sys->n_forced > 0)
+        return;
+    for (a = 0; a < sys->n_bodies; a++) {
+        mass += sys->body[a].m;
+        for (i = 0; i < 3; i++)
+            v[i] += p[a][i];
+    }
+    for (i = 0; i < 3; i++)
+        v[i] /= mass;
+}
+
+/* Remove kinetic energy -goal > 0 relative to the frame by a uniform drag
+ * p_A -= alpha (p_A - m_A v): the relative K scales by (1 - alpha)^2. Keeps L (no anchors),
+ * not J. Returns 0 if the relative K is less than -goal. */
+static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_real goal)
+{
+    edmi_real v[3], krel = EDMI__ZERO, alpha;
+    int a, i;
+    edmi__frame_velocity(sys, work, (const edmi_real (*)[3])work->p1, v);
+    for (a = 0; a < sys->n_bodies; a++)
+        for (i = 0; i < 3; i++) {
+            edmi_real x = work->p1[a][i] - sys->body[a].m * v[i];
+            krel += EDMI__HALF * x * x / sys->body[a].m;
+        }
+    if (!(goal < EDMI__ZERO) || !(krel > -goal))
+        return 0;
+    alpha = EDMI__ONE - EDMI_SQRT(EDMI__ONE + goal / krel);
+    for (a = 0; a < sys->n_bodies; a++)
+        for (i = 0; i < 3; i++)
+            work->p1[a][i] -= alpha * (work->p1[a][i] - sys->body[a].m * v[i]);
+    return 1;
+}
+
+/* The guard's state between its moves: the excess e of the stored state's H change over the
+ * work, its certification margin, and where to aim. */
+typedef struct edmi__aim {
+    edmi_real e, margin; /* H change - work <= e + margin, exactly */
+    edmi_real goal, hi;  /* wanted K change (to work - diss), and the largest one allowed */
+    edmi_real diss, tol; /* the law's dissipation; how close to goal is close enough */
+} edmi__aim;
+
+/* Re-evaluate K's change for the current work->p1, and the aim. 0 if beyond range. */
+static int edmi__reaim(const edmi_system *sys, const edmi_workspace *work, edmi__balance *bal,
+                       edmi__aim *t)
+{
+    edmi__delta_k(sys, (const edmi_real (*)[3])work->p1, bal);
+    if (!edmi__excess(bal, &t->e, &t->margin))
+        return 0;
+    t->hi = -t->e - t->margin;
+    t->goal = -t->diss - t->e;
+    if (t->goal > t->hi)
+        t->goal = t->hi;
+    return 1;
+}
+
+static int edmi__certified(const edmi__aim *t) { return t->e + t->margin <= EDMI__ZERO; }
+
+static int edmi__on_target(const edmi__aim *t)
+{
+    return edmi__certified(t) && edmi__abs(t->goal) <= t->tol;
+}
+
+/* One energy-aware rounding, the coarsest component within k3 units; 0 if nothing in range. */
+/* d(V - work_ext)/dq_a at the end of the step, from each link's V'(d_n+1) (working
+ * precision: the rounding search only needs its candidates' energies to ~eps relative). */
+static void edmi__grad_q(const edmi_system *sys, const edmi_workspace *work, int a,
+                         edmi_real g[3])
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
-    int a, j;
+    int j, i;
+    for (i = 0; i < 3; i++)
+        g[i] = sys->has_field ? -sys->body[a].m * sys->g[i] : EDMI__ZERO;
+    for (j = 0; j < sys->n_forced; j++)
+        if (sys->forced[j] == a)
+            for (i = 0; i < 3; i++)
+                g[i] -= sys->force[a][i];
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        edmi_real r1[3], d1, f;
+        edmi_pot_parts pp;
+        if (lk->a != a && lk->b != a)
+            continue;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, &work->lw[j], q1), r1);
+        d1 = edmi__norm(r1);
+        if (edmi__is_linear(&lk->pot))
+            f = lk->pot.a;
+        else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK)
+            f = pp.v[1] / d1;
+        else
+            continue;
+        if (lk->a != a)
+            f = -f;
+        for (i = 0; i < 3; i++)
+            g[i] += f * r1[i];
+    }
+}
+
+/* The position moves for the rounding search: body a of the coarsest momentum component. */
+static void edmi__pick_qmoves(const edmi_system *sys, const edmi_workspace *work, int a,
+                              edmi__qmoves *qm)
+{
+    int i, low;
+    qm->a = a;
+    qm->n = 27;
+    edmi__grad_q(sys, work, a, qm->g);
+    edmi__copy3(work->p1[a], qm->jp);
+    for (i = 0; i < 3; i++) {
+        qm->u[i] = edmi__ulp(work->q1[a][i], &low);
+        if (edmi__abs(work->q1[a][i]) < EDMI_R(16384.0) * qm->u[i] || !edmi__finite(qm->g[i]))
+            qm->u[i] = EDMI__ZERO;
+    }
+}
+
+/* work_ext for the current work->q1, correctly rounded; updates bal->w. */
+static void edmi__port_work(const edmi_system *sys, const edmi_workspace *work,
+                            edmi_step_result *res, edmi__balance *bal)
+{
+    edmi__dw wx = edmi__dw_of(EDMI__ZERO);
+    int a;
     for (a = 0; a < sys->n_forced; a++) {
         int b = sys->forced[a];
-        edmi_real dq[3];
-        edmi__sub(q1[b], sys->body[b].q, dq);
-        res->work_ext += edmi__dot(sys->force[b], dq);
+        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], work->q1[b], sys->body[b].q));
+    }
+    res->work_ext = edmi__dw_real(wx);
+    bal->w = edmi__two_sum(res->work_ext, res->work_anchor);
+}
+
+/* One energy-aware rounding, the coarsest momentum component within k3 units. Returns 0 if
+ * nothing was in range, -1 if a moved position left the potentials' domain. */
+static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
+                             const edmi__aim *t, int k3, edmi_step_result *res)
+{
+    edmi__comp c[3];
+    edmi__qmoves qm;
+    int k[3], n = edmi__pick_comps(sys, work, c), o[3], qv = 0, j;
+    edmi_real l2 = EDMI__ZERO, tol;
+    if (n == 0)
+        return 0;
+    if (work->n_pair == sys->n_links) /* no anchors: L is conserved too */
+        for (j = 0; j < n; j++)
+            l2 = edmi__max(l2, edmi__dot(work->q1[c[j].a], work->q1[c[j].a]));
+    edmi__pick_qmoves(sys, work, c[0].a, &qm);
+    tol = edmi__max(t->tol, EDMI__ROUND_WINDOW * edmi__abs(c[0].p * c[0].u / c[0].m2));
+    if (!edmi__round_search(c, n, &qm, k3, t->goal, t->hi, tol, l2, k, &qv))
+        return 0;
+    if ((k[0] | k[1] | k[2]) != 0) {
+        edmi__round_apply(work, c, n, k);
+        res->guard_action |= EDMI_GUARD_ROUND;
+    }
+    if (qv != 0) {
+        edmi__qvariant(qv, o);
+        for (j = 0; j < 3; j++)
+            work->q1[qm.a][j] += (edmi_real)o[j] * qm.u[j];
+        res->guard_action |= EDMI_GUARD_ROUND;
+        edmi__port_work(sys, work, res, bal);
+        if (edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, bal) != EDMI_OK)
+            return -1;
+    }
+    return 1;
+}
+
+/* After the search, if its working-precision estimate left the stored state a hair above the
+ * certificate, step the finest picked component one unit towards zero, at most this often
+ * (the last times the coarsest). */
+#define EDMI__GUARD_NUDGES 4
+
+/* The passivity guard on Newton's iterate work->p1 (bal: dv, w filled; diss: the dissipation
+ * the scheme's law asks for, >= 0). On success the stored state satisfies
+ * H_n+1 - H_n <= work exactly, and H_n+1 - H_n is as close to work - diss as the grid allows. */
+static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
+                               edmi_real diss, edmi_step_result *res)
+{
+    edmi__comp c[3];
+    edmi__dw h_newton;
+    edmi__aim t;
+    int n, k[3], i, r;
+    t.diss = diss;
+    t.tol = diss / EDMI_R(8.0);
+    if (!edmi__reaim(sys, work, bal, &t))
+        return EDMI_ERR_PASSIVITY;
+    h_newton = edmi__dw_add(bal->dv, bal->dk);
+    if (!edmi__on_target(&t)) {
+        /* the bulk by an impulse that keeps J, when more than a couple of units are needed */
+        n = edmi__pick_comps(sys, work, c);
+        if ((n == 0 || edmi__abs(t.goal) > EDMI__HALF * edmi__abs(edmi__comp_dk(&c[0], 4))) &&
+            edmi__guard_impulse(sys, work, t.goal)) {
+            res->guard_action |= EDMI_GUARD_IMPULSE;
+            if (!edmi__reaim(sys, work, bal, &t))
+                return EDMI_ERR_PASSIVITY;
+        }
+        r = edmi__on_target(&t) ? 1 : edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
+        if (r == 0)
+            r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_WIDE_K0, res);
+        if (r == 0 && edmi__guard_drag(sys, work, t.goal)) {
+            res->guard_action |= EDMI_GUARD_DRAG;
+            if (!edmi__reaim(sys, work, bal, &t))
+                return EDMI_ERR_PASSIVITY;
+            r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
+        }
+        if (r < 0)
+            return EDMI_ERR_PASSIVITY;
+        if (!edmi__reaim(sys, work, bal, &t))
+            return EDMI_ERR_PASSIVITY;
+    }
+    for (i = 0; i < EDMI__GUARD_NUDGES && !edmi__certified(&t); i++) {
+        n = edmi__pick_comps(sys, work, c);
+        if (n == 0)
+            break;
+        k[0] = k[1] = k[2] = 0;
+        k[i < 2 ? n - 1 : 0] = c[i < 2 ? n - 1 : 0].p > EDMI__ZERO ? -1 : 1;
+        edmi__round_apply(work, c, n, k);
+        res->guard_action |= EDMI_GUARD_ROUND;
+        if (!edmi__reaim(sys, work, bal, &t))
+            return EDMI_ERR_PASSIVITY;
+    }
+    if (!edmi__certified(&t))
+        return EDMI_ERR_PASSIVITY;
+    res->diss_guard = edmi__dw_real(edmi__dw_sub(h_newton, edmi__dw_add(bal->dv, bal->dk)));
+    return EDMI_OK;
+}
+
+/* What the converged step did to energy: the ports' and anchors' work (correctly rounded),
+ * each link's mean force on its second end (work->lw[j].f: algorithmic force plus dampers),
+ * the dampers' dissipation, and bal->w. */
+static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                   edmi_step_result *res, edmi__balance *bal)
+{
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    edmi__dw wx = edmi__dw_of(EDMI__ZERO), wa = edmi__dw_of(EDMI__ZERO);
+    int a, i, j;
+    for (a = 0; a < sys->n_forced; a++) {
+        int b = sys->forced[a];
+        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], q1[b], sys->body[b].q));
+    }
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        edmi_link_ws *w = &work->lw[j];
+        edmi_real r1[3];
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        for (i = 0; i < 3; i++)
+            w->f[i] = w->beta * (EDMI__HALF * (w->r0[i] + r1[i]));
     }
     for (j = 0; j < sys->n_dampers; j++) {
-        const edmi_link *lk = &sys->link[sys->damper[j].link];
-        edmi_link_ws *w = &work->lw[sys->damper[j].link];
+        int l = sys->damper[j].link;
+        const edmi_link *lk = &sys->link[l];
+        edmi_link_ws *w = &work->lw[l];
         edmi_real r1[3], dr[3], imp[3], k[9];
         edmi_status st;
-        edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
         st = edmi__damper(w, sys->damper[j].c, r1, imp, k);
         if (st != EDMI_OK)
             return st;
         edmi__sub(r1, w->r0, dr);
         res->diss_damping += edmi__dot(dr, imp) / dt;
+        for (i = 0; i < 3; i++)
+            w->f[i] += imp[i] / dt;
     }
-    if (!sys->params.energy_balance)
-        return EDMI_OK;
+    for (i = 0; i < sys->n_moving; i++) {
+        j = sys->moving[i];
+        wa = edmi__dw_sub(wa, edmi__dw_work(work->lw[j].f, work->lw[j].x1, sys->link[j].anchor));
+    }
+    res->work_ext = edmi__dw_real(wx);
+    res->work_anchor = edmi__dw_real(wa);
+    bal->w = edmi__two_sum(res->work_ext, res->work_anchor);
+    return EDMI_OK;
+}
+
+/* The dissipation the scheme's energy law gives for the step: per link GE (dd^2/2)
+ * (V_c'' - V_e''), PM (dd^4/48) (V_+'''' - V_-''''), PT (dd^4/24) (V_+'''' - V_-''''), with
+ * dd = d_n+1 - d_n and the derivatives at mean-value points between d_n and d_n+1, here
+ * taken at the mid-length (README, "What the paper gets wrong"); none for MP and LG. The
+ * work identity (diss_scheme) holds the same quantity but carries the rounding of beta,
+ * ~eps |beta| |d_n+1^2 - d_n^2|, ten times PM's own dissipation on the paper's spring in
+ * float; the law has no cancellation, so it is the guard's target. */
+static edmi_real edmi__diss_law(const edmi_system *sys, const edmi_workspace *work)
+{
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    edmi_scheme s = sys->params.scheme;
+    edmi_real d = EDMI__ZERO;
+    int j;
+    if (s != EDMI_GE && s != EDMI_PM && s != EDMI_PT)
+        return EDMI__ZERO;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        const edmi_link_ws *w = &work->lw[j];
+        edmi_real r1[3], dr[3], sr[3], d1, dd, x;
+        edmi_pot_parts pp;
+        int i;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        d1 = edmi__norm(r1);
+        if (!(w->d0 + d1 > EDMI__ZERO))
+            continue;
+        for (i = 0; i < 3; i++) {
+            dr[i] = r1[i] - w->r0[i];
+            sr[i] = r1[i] + w->r0[i];
+        }
+        dd = edmi__dot(dr, sr) / (w->d0 + d1);
+        if (edmi__pot_parts(&lk->pot, EDMI__HALF * (w->d0 + d1), &pp) != EDMI_OK)
+            continue;
+        if (s == EDMI_GE)
+            x = EDMI__HALF * dd * dd * (pp.c[2] - pp.e[2]);
+        else
+            x = dd * dd * dd * dd / (s == EDMI_PM ? EDMI_R(48.0) : EDMI_R(24.0)) *
+                (pp.sp[4] - pp.sm[4]);
+        if (edmi__finite(x) && x > EDMI__ZERO)
+            d += x;
+    }
+    return d;
+}
+
+static int edmi__guard_on(const edmi_params *p)
+{
+    return p->guard == EDMI_GUARD_ON ||
+           (p->guard == EDMI_GUARD_AUTO &&
+            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+}
+
+/* After Newton converged: work, forces, energy balance and (if on) the guard. */
+static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                edmi_step_result *res)
+{
+    edmi__balance bal;
+    edmi_real diss;
+    edmi_status st = edmi__step_work(sys, work, dt, res, &bal);
+    int guard = edmi__guard_on(&sys->params);
+    if (st != EDMI_OK || (!guard && !sys->params.energy_balance))
+        return st;
+    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal);
+    if (st != EDMI_OK)
+        return st;
+    res->diss_scheme = edmi__dw_real(bal.scheme);
+    if (guard) {
+        diss = edmi__diss_law(sys, work) + edmi__max(res->diss_damping, EDMI__ZERO);
+        st = edmi__guard(sys, work, &bal, diss, res);
+        if (st != EDMI_OK)
+            return st;
+    } else {
+        edmi__delta_k(sys, (const edmi_real (*)[3])work->p1, &bal);
+    }
+    res->dh = edmi__dw_real(edmi__dw_add(bal.dv, bal.dk));
+    return edmi__finite(res->dh) ? EDMI_OK : EDMI_ERR_PASSIVITY;
+}
+
+/* The fallback state (params.fallback, after Newton failed): positions kept, momenta set to
+ * the frame's (edmi__frame_velocity), or to 0 if rounding those would not certify. Passive
+ * by construction: K does not grow, V changes only where an anchor moved, and work_anchor
+ * is that change rounded upwards (the work a hand does moving its end of a frozen link).
+ * link_force is each link's force V'(d) r/d at the end of the step. */
+static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
+                                  edmi_step_result *res)
+{
+    edmi__balance bal;
+    edmi_real v[3], e, margin, wa;
+    int a, i, j, pass;
+    edmi_status st;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(sys->body[a].q, work->q1[a]);
+        edmi__copy3(sys->body[a].p, work->p1[a]);
+    }
+    edmi__frame_velocity(sys, work, (const edmi_real (*)[3])work->p1, v);
+    for (a = 0; a < sys->n_bodies; a++)
+        for (i = 0; i < 3; i++)
+            work->p1[a][i] = sys->body[a].m * v[i];
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         edmi_link_ws *w = &work->lw[j];
-        edmi_real r1[3];
-        edmi_pot_parts p1;
-        edmi_status st;
-        edmi__sub(q1[lk->a], edmi__end_b(lk, q1), r1);
-        st = edmi__pot_parts(&lk->pot, edmi__norm(r1), &p1);
-        if (st != EDMI_OK)
-            return st;
-        /* work of f = dt beta r_m over dr, per dt: beta (dr . r_m) = beta (|r1|^2 - |r0|^2)/2 */
-        res->diss_scheme += w->beta * EDMI__HALF * (edmi__dot(r1, r1) - w->d0 * w->d0) -
-                            (p1.v[0] - w->v0);
+        edmi_real r1[3], d1;
+        edmi_pot_parts pp;
+        edmi__sub(sys->body[lk->a].q, edmi__end_b(lk, w, (const edmi_real (*)[3])work->q1), r1);
+        d1 = edmi__norm(r1);
+        w->beta = EDMI__ZERO;
+        if (edmi__is_linear(&lk->pot))
+            w->beta = lk->pot.a;
+        else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK)
+            w->beta = pp.v[1] / d1;
+        for (i = 0; i < 3; i++)
+            w->f[i] = w->beta * r1[i];
     }
+    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal);
+    if (st != EDMI_OK)
+        return EDMI_ERR_PASSIVITY;
+    wa = edmi__dw_real(bal.dv) + edmi__abs(bal.dv.lo) + bal.err_v;
+    wa += edmi__abs(wa) * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN;
+    if (sys->n_moving == 0)
+        wa = EDMI__ZERO; /* nothing moved: every link term is exactly 0 (edmi__delta_v) */
+    res->work_ext = EDMI__ZERO;
+    res->work_anchor = wa;
+    res->diss_damping = EDMI__ZERO;
+    res->diss_scheme = EDMI__ZERO;
+    res->diss_guard = EDMI__ZERO;
+    res->guard_action = 0;
+    bal.w = edmi__dw_of(wa);
+    for (pass = 0; pass < 2; pass++) {
+        edmi__delta_k(sys, (const edmi_real (*)[3])work->p1, &bal);
+        if (!edmi__excess(&bal, &e, &margin))
+            return EDMI_ERR_PASSIVITY;
+        if (e + margin <= EDMI__ZERO)
+            break;
+        for (a = 0; a < sys->n_bodies; a++)
+            for (i = 0; i < 3; i++)
+                work->p1[a][i] = EDMI__ZERO;
+    }
+    if (!(e + margin <= EDMI__ZERO))
+        return EDMI_ERR_PASSIVITY;
+    res->dh = edmi__dw_real(edmi__dw_add(bal.dv, bal.dk));
+    res->stop = EDMI_STOP_FALLBACK;
     return EDMI_OK;
 }
 
@@ -1187,25 +2255,119 @@ static void edmi__advance_clock(edmi_system *sys, edmi_real dt)
 static void edmi__clear_result(edmi_step_result *res)
 {
     res->iterations = 0;
-    res->stop = EDMI_STOP_TOL_R;
+    res->stop = EDMI_STOP_CONVERGED;
     res->residual = EDMI__ZERO;
     res->residual0 = EDMI__ZERO;
-    res->floor = EDMI__ZERO;
+    res->correction = EDMI__ZERO;
     res->lg_switches = 0;
     res->halvings = 0;
     res->work_ext = EDMI__ZERO;
+    res->work_anchor = EDMI__ZERO;
     res->diss_damping = EDMI__ZERO;
     res->diss_scheme = EDMI__ZERO;
+    res->dh = EDMI__ZERO;
+    res->diss_guard = EDMI__ZERO;
+    res->guard_action = 0;
+}
+
+/* The LG quotient's cancellation noise in the scaled residual: the largest
+ * dt |r_m| (2 eps (|V(d_n+1)| + |V(d_n)|) / |d_n+1 - d_n|) / (d_n + d_n+1) of a link over
+ * the momentum scales of its ends (0 for every other scheme and form). */
+static edmi_real edmi__quotient_noise(const edmi_system *sys, const edmi_workspace *work)
+{
+    edmi_real n = EDMI__ZERO;
+    int j;
+    if (sys->params.scheme != EDMI_LG || sys->params.lg_form != EDMI_LG_QUOTIENT)
+        return EDMI__ZERO;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        n = edmi__max(n, work->lw[j].noise / work->sp[lk->a]);
+        if (lk->b != EDMI_ANCHOR)
+            n = edmi__max(n, work->lw[j].noise / work->sp[lk->b]);
+    }
+    return n;
+}
+
+/* A residual that stopped halving within this factor of the LG quotient's noise is there. */
+#define EDMI__NOISE_FACTOR EDMI_R(8.0)
+
+/* The multi-corrector from the evaluated predictor. Newton stops (edmi_stop):
+ *  - at the optional tol_r / tol_a;
+ *  - CONVERGED when the next correction, predicted from the last two in Newton's quadratic
+ *    regime (c_l+1 = C c_l^2 with C = c_l / c_l-1^2, so c_l+1 = c_l^3 / c_l-1^2, taken only
+ *    when the last two corrections each contracted by 4 or more and the last one did not
+ *    raise the residual: far from the root of a stiff step, omega dt = 100, a small correction
+ *    can follow a large one and still land on a larger residual), would be below eps in the scaled norm: it could not move the iterate
+ *    by a unit roundoff. Or when a full correction (or the residual) is exactly 0. On the
+ *    paper's spring: 2 corrections in float, 2-3 in double;
+ *  - STALLED when the residual's noise is above eps: it stopped halving after the quadratic
+ *    regime (two residuals below sqrt(eps) r_0), or within 8x the LG quotient's cancellation
+ *    noise (measured in float on a circular orbit: |d1 - d0| ~ 1e-6, noise ~1e-2, where
+ *    Newton otherwise cycles between two iterates for ever). Unlike a floor estimate that
+ *    accepts any residual below it, this stops only once the residual has stopped falling. */
+static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                edmi_step_result *res)
+{
+    const edmi_params *prm = &sys->params;
+    edmi_real r = res->residual0, rprev, moved, c, cprev = EDMI__ZERO, cprev2 = EDMI_REAL_MAX;
+    edmi_status st;
+    int l, halvings_before;
+    if (!(r > EDMI__ZERO))
+        return EDMI_OK;
+    for (l = 1;; l++) {
+        st = edmi__newton_update(sys, work, dt);
+        if (st != EDMI_OK)
+            return st;
+        c = edmi__scaled_norm(sys, work, work->rhs, (const edmi_real (*)[3])work->dp);
+        rprev = r;
+        halvings_before = res->halvings;
+        st = edmi__line_search(sys, work, dt, &r, res, &moved);
+        if (st != EDMI_OK)
+            return st;
+        res->iterations = l;
+        res->residual = r;
+        res->correction = c * moved;
+        if (prm->tol_r > EDMI__ZERO && r <= prm->tol_r * res->residual0) {
+            res->stop = EDMI_STOP_TOL_R;
+            return EDMI_OK;
+        }
+        if (prm->tol_a > EDMI__ZERO && r <= prm->tol_a) {
+            res->stop = EDMI_STOP_TOL_A;
+            return EDMI_OK;
+        }
+        if (moved == EDMI__ONE && (c == EDMI__ZERO || r == EDMI__ZERO ||
+                                   (l >= 2 && r <= rprev && c <= EDMI_R(0.25) * cprev &&
+                                    cprev <= EDMI_R(0.25) * cprev2 &&
+                                    c * c * c <= EDMI_EPS * cprev * cprev))) {
+            res->stop = EDMI_STOP_CONVERGED;
+            return EDMI_OK;
+        }
+        cprev2 = l >= 2 ? cprev : EDMI_REAL_MAX;
+        cprev = res->correction;
+        if (l >= 2 && r > EDMI__HALF * rprev &&
+            ((rprev <= EDMI__SQRT_EPS * res->residual0 && r <= EDMI__SQRT_EPS * res->residual0) ||
+             r <= EDMI__NOISE_FACTOR * edmi__quotient_noise(sys, work))) {
+            res->stop = EDMI_STOP_STALLED;
+            return EDMI_OK;
+        }
+        if (l >= prm->l_max) /* still pushed out of the domain, or just slow */
+            return res->halvings > halvings_before ? EDMI_ERR_DIVERGED : EDMI_ERR_NO_CONVERGENCE;
+    }
+}
+
+static int edmi__is_solver_failure(edmi_status st)
+{
+    return st == EDMI_ERR_SINGULAR || st == EDMI_ERR_NO_CONVERGENCE || st == EDMI_ERR_DIVERGED ||
+           st == EDMI_ERR_PASSIVITY;
 }
 
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res)
 {
     edmi_step_result local;
-    const edmi_params *prm;
-    edmi_real r, rprev;
+    edmi_real r;
     edmi_status st;
-    int a, l, halvings_before;
+    int a, i;
     if (!res)
         res = &local;
     edmi__clear_result(res);
@@ -1214,7 +2376,6 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     st = edmi__validate(sys, dt);
     if (st != EDMI_OK)
         return st;
-    prm = &sys->params;
     st = edmi__prepare_links(sys, work);
     if (st != EDMI_OK)
         return st;
@@ -1228,57 +2389,30 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     if (st != EDMI_OK)
         return st;
     edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
-    r = edmi__scaled_residual(sys, work, &res->floor); /* so measure again with them */
-    res->residual0 = r;
-    res->residual = r;
+    res->residual0 = edmi__scaled_residual(sys, work); /* so measure again with them */
+    res->residual = res->residual0;
 
-    /* Multi-corrector. */
-    if (r > EDMI__ZERO) {
-        for (l = 1;; l++) {
-            st = edmi__newton_update(sys, work, dt);
-            if (st != EDMI_OK)
-                return st;
-            rprev = r;
-            halvings_before = res->halvings;
-            st = edmi__line_search(sys, work, dt, &r, res);
-            if (st != EDMI_OK)
-                return st;
-            res->iterations = l;
-            res->residual = r;
-            if (r <= prm->tol_r * res->residual0) {
-                res->stop = EDMI_STOP_TOL_R;
-                break;
-            }
-            if (r <= prm->tol_a) {
-                res->stop = EDMI_STOP_TOL_A;
-                break;
-            }
-            /* Round-off floor: estimated, or shown by a quadratic regime that stopped
-             * contracting (cancellation inside a potential, e.g. r^2 - L^2 near the rest
-             * length, is not in the estimate). */
-            if (r <= EDMI__FLOOR_FACTOR * res->floor ||
-                (l >= 2 && rprev <= EDMI__SQRT_EPS * res->residual0 &&
-                 r <= EDMI__SQRT_EPS * res->residual0 && r > EDMI__HALF * rprev)) {
-                res->stop = EDMI_STOP_STALLED;
-                break;
-            }
-            if (l >= prm->l_max) /* still pushed out of the domain, or just slow */
-                return res->halvings > halvings_before ? EDMI_ERR_DIVERGED
-                                                       : EDMI_ERR_NO_CONVERGENCE;
-        }
-    } else {
-        res->stop = EDMI_STOP_TOL_A;
+    st = edmi__newton(sys, work, dt, res);
+    if (st == EDMI_OK)
+        st = edmi__finish(sys, work, dt, res);
+    if (st != EDMI_OK) {
+        if (!sys->params.fallback || !edmi__is_solver_failure(st))
+            return st;
+        st = edmi__fallback(sys, work, res);
+        if (st != EDMI_OK)
+            return st;
     }
-
-    st = edmi__energy_report(sys, work, dt, res);
-    if (st != EDMI_OK)
-        return st;
 
     /* Commit. */
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(work->q1[a], sys->body[a].q);
         edmi__copy3(work->p1[a], sys->body[a].p);
     }
+    for (i = 0; i < sys->n_links; i++)
+        edmi__copy3(work->lw[i].f, sys->link_force[i]);
+    for (i = 0; i < sys->n_moving; i++)
+        edmi__copy3(sys->anchor_next[sys->moving[i]], sys->link[sys->moving[i]].anchor);
+    sys->n_moving = 0;
     edmi__advance_clock(sys, dt);
     return EDMI_OK;
 }
@@ -1367,7 +2501,7 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
         edmi_status st;
         edmi__link_vector(sys, lk, r);
         d = edmi__norm(r);
-        if (!(d > EDMI__ZERO))
+        if (!(d > EDMI__ZERO) && !(d == EDMI__ZERO && edmi__is_linear(&lk->pot)))
             return EDMI_ERR_COINCIDENT;
         st = edmi__pot_parts(&lk->pot, d, &pp);
         if (st != EDMI_OK)
@@ -1415,21 +2549,19 @@ edmi_params edmi_default_params(void)
     p.lg_alt = EDMI_ALT_JANZ;
     p.l_max = 20;
     p.energy_balance = 0;
+    p.guard = EDMI_GUARD_AUTO;
+    p.fallback = 0;
+    /* No tolerance to tune: Newton stops at its round-off floor in either precision
+     * (edmi__newton). tol_r and tol_a are early stops for studies, off by default. */
+    p.tol_r = EDMI__ZERO;
+    p.tol_a = EDMI__ZERO;
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
-    /* The paper's section 3.4 values. */
-    p.tol_q = EDMI_R(1e-8);
-    p.tol_r = EDMI_R(1e-10);
-    p.tol_a = EDMI_R(1e-15);
+    p.tol_q = EDMI_R(1e-8); /* the paper's section 3.4 value */
 #else
-    /* Float (eps = 1.19e-7): the scaled residual cannot fall much below ~10 eps, so
-     * tol_a = 1e-6 (~8 eps) is the absolute floor and tol_r = 1e-5 (~100 eps) the relative
-     * reduction float can resolve. The LG quotient [V(d1)-V(d0)]/(d1-d0) loses about
-     * eps |V| / |d1 - d0| to cancellation; tol_q = 1e-3 keeps that below ~1e-4 relative for
-     * distances and potentials of order one (the double default 1e-8 would let the
-     * quotient be pure round-off). */
+    /* The LG quotient [V(d1)-V(d0)]/(d1-d0) loses eps |V| / |d1 - d0| to cancellation;
+     * tol_q = 1e-3 keeps that below ~1e-4 relative for distances and potentials of order
+     * one (the double default 1e-8 would let the quotient be pure round-off in float). */
     p.tol_q = EDMI_R(1e-3);
-    p.tol_r = EDMI_R(1e-5);
-    p.tol_a = EDMI_R(1e-6);
 #endif
     return p;
 }
@@ -1565,6 +2697,24 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
     if (index)
         *index = sys->n_dampers;
     sys->n_dampers++;
+    return EDMI_OK;
+}
+
+edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3])
+{
+    int i;
+    if (!sys || !x)
+        return EDMI_ERR_NULL;
+    if (link < 0 || link >= sys->n_links || sys->link[link].b != EDMI_ANCHOR ||
+        sys->n_moving < 0 || sys->n_moving >= EDMI_MAX_LINKS)
+        return EDMI_ERR_INDEX;
+    if (!edmi__finite3(x))
+        return EDMI_ERR_NONFINITE;
+    for (i = 0; i < sys->n_moving && sys->moving[i] != link; i++)
+        ;
+    if (i == sys->n_moving)
+        sys->moving[sys->n_moving++] = link;
+    edmi__copy3(x, sys->anchor_next[link]);
     return EDMI_OK;
 }
 
@@ -1712,6 +2862,7 @@ const char *edmi_status_name(edmi_status s)
     case EDMI_ERR_SINGULAR: return "EDMI_ERR_SINGULAR";
     case EDMI_ERR_NO_CONVERGENCE: return "EDMI_ERR_NO_CONVERGENCE";
     case EDMI_ERR_DIVERGED: return "EDMI_ERR_DIVERGED";
+    case EDMI_ERR_PASSIVITY: return "EDMI_ERR_PASSIVITY";
     default: return "EDMI_ERR_UNKNOWN";
     }
 }

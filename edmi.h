@@ -112,9 +112,12 @@ typedef enum edmi_status {
     EDMI_ERR_COINCIDENT,     /*!< two linked bodies (or a body and its anchor) at distance 0 */
     EDMI_ERR_SINGULAR,       /*!< the Newton matrix is singular to working precision */
     EDMI_ERR_NO_CONVERGENCE, /*!< Newton did not meet tol_R/tol_A within l_max iterations */
-    EDMI_ERR_DIVERGED        /*!< Newton left the potentials' domain (a distance 0, a
+    EDMI_ERR_DIVERGED,       /*!< Newton left the potentials' domain (a distance 0, a
                                   non-finite value, a user callback refusing) and halving the
                                   correction did not bring it back within l_max iterations */
+    EDMI_ERR_PASSIVITY       /*!< the guard could not certify H_n+1 - H_n <= work (values
+                                  beyond the range its double-word arithmetic covers, or an
+                                  excess larger than the kinetic energy it may remove) */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */
@@ -147,17 +150,31 @@ typedef enum edmi_lg_alt {
     EDMI_ALT_PT        /*!< the perturbed trapezoidal force: energy-decaying */
 } edmi_lg_alt;
 
+/** The passivity guard (README, "Energy-safe stepping"). */
+typedef enum edmi_guard_mode {
+    EDMI_GUARD_AUTO = 0, /*!< on for the energy-decaying schemes GE, PM, PT; off for MP, LG */
+    EDMI_GUARD_ON,       /*!< on for every scheme (MP and LG then never gain energy either) */
+    EDMI_GUARD_OFF       /*!< off: the step stores Newton's iterate as it is (for studies) */
+} edmi_guard_mode;
+
 /** Solver and scheme parameters; start from edmi_default_params() and edit. */
 typedef struct edmi_params {
     edmi_scheme scheme;  /*!< which algorithmic force */
     edmi_lg_form lg_form; /*!< LG only: closed-form divided difference or quotient + switch */
     edmi_lg_alt lg_alt;  /*!< LG quotient only: alternate force in the singular limit */
     edmi_real tol_q;     /*!< LG quotient only: switch when |d1 - d0| <= tol_q [length] */
-    edmi_real tol_r;     /*!< stop when scaled residual <= tol_r * scaled residual of predictor */
-    edmi_real tol_a;     /*!< stop when scaled residual <= tol_a [dimensionless] */
+    edmi_real tol_r;     /*!< optional early stop: scaled residual <= tol_r * scaled residual
+                              of the predictor; 0 (default): off, Newton runs to its floor */
+    edmi_real tol_a;     /*!< optional early stop: scaled residual <= tol_a; 0 (default): off */
     int l_max;           /*!< at most this many Newton corrections per step (>= 1) */
-    int energy_balance;  /*!< non-zero: edmi_step reports diss_scheme (costs one potential
-                              evaluation per link per step); 0 by default */
+    int energy_balance;  /*!< non-zero: edmi_step reports diss_scheme even with the guard off
+                              (costs a double-word evaluation of H per step); 0 by default */
+    edmi_guard_mode guard; /*!< passivity guard: H_n+1 - H_n <= work on the stored values */
+    int fallback;        /*!< non-zero: a step whose Newton solve fails (l_max reached,
+                              diverged, singular) stores the fallback state instead of
+                              failing: positions kept, kinetic energy relative to the
+                              centre of mass (or, with anchors, all of it) removed; reported
+                              as EDMI_STOP_FALLBACK. Bounds every step's time. 0 by default */
 } edmi_params;
 
 /** Derivatives 0..4 of the split parts of a potential at one distance r:
@@ -243,6 +260,14 @@ typedef struct edmi_system {
     int n_forced;                        /*!< bodies with an external force port set */
     int forced[EDMI_MAX_BODIES];         /*!< their indices */
     edmi_real force[EDMI_MAX_BODIES][3]; /*!< port force per body (row forced[i] in use) [M L/T^2] */
+    int n_moving;                        /*!< anchor links moved by edmi_move_anchor() */
+    int moving[EDMI_MAX_LINKS];          /*!< their link indices */
+    edmi_real anchor_next[EDMI_MAX_LINKS][3]; /*!< where each reaches at the end of the next step [L] */
+    /** Output of the last successful step: the mean force link j applied on its second end
+     *  (body b, or the anchor: the force a motor renders to a hand) over the step, its
+     *  algorithmic force plus its dampers [M L/T^2]. The work the anchors did on the system
+     *  is -sum link_force . (x_n+1 - x_n), reported as edmi_step_result.work_anchor. */
+    edmi_real link_force[EDMI_MAX_LINKS][3];
 } edmi_system;
 
 /** Per-link scratch: the start-of-step quantities a link's force needs, computed once per
@@ -255,8 +280,10 @@ typedef struct edmi_link_ws {
     edmi_real dve0;  /* V_e'(d_n) */
     edmi_real d3p0;  /* V_+'''(d_n) */
     edmi_real d3m0;  /* V_-'''(d_n) */
-    edmi_real dv0_err; /* round-off of V'(d_n), for the stopping test */
-    edmi_real beta;    /* beta of the last residual evaluation (energy balance) */
+    edmi_real beta;    /* beta of the last residual evaluation (energy balance, guard) */
+    edmi_real noise;   /* LG quotient: its cancellation error in the link's force */
+    edmi_real x1[3];   /* anchor links: the anchor at the end of the step */
+    edmi_real f[3];    /* mean force on the second end over the step (sys->link_force) */
     edmi_real k[9];  /* tangent block d f / d r_{n+1}, row-major */
 } edmi_link_ws;
 
@@ -283,8 +310,6 @@ typedef struct edmi_workspace {
     edmi_real rp[EDMI_MAX_BODIES][3]; /* residual R_p */
     edmi_real sq[EDMI_MAX_BODIES];    /* per-body position scale of the stopping test */
     edmi_real sp[EDMI_MAX_BODIES];    /* per-body momentum scale of the stopping test */
-    edmi_real nq[EDMI_MAX_BODIES];    /* round-off floor estimate of |R_q| */
-    edmi_real np[EDMI_MAX_BODIES];    /* round-off floor estimate of |R_p| */
     edmi_real dp[EDMI_MAX_BODIES][3]; /* Newton correction of p */
     edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
     edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
@@ -296,33 +321,58 @@ typedef struct edmi_workspace {
 
 /** Why Newton stopped (a successful step). */
 typedef enum edmi_stop {
-    EDMI_STOP_TOL_R = 0, /*!< scaled residual <= tol_r * initial scaled residual */
-    EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a */
-    EDMI_STOP_STALLED    /*!< residual reached its round-off floor: <= 8 x the estimated floor
-                              (edmi_step_result.floor), or it stopped halving after Newton's
-                              quadratic regime (this and the previous residual both
-                              <= sqrt(eps) x residual0) */
+    EDMI_STOP_CONVERGED = 0, /*!< at the round-off floor: the next Newton correction,
+                                  predicted from the last two in the quadratic regime
+                                  (c_l^3 / c_l-1^2, with c_l <= c_l-1 / 4), is below eps in
+                                  the scaled norm, so it could not move the iterate by a unit
+                                  roundoff; or a correction or the residual is exactly 0 */
+    EDMI_STOP_STALLED,   /*!< round-off noise above eps: the residual stopped halving after
+                              Newton's quadratic regime (this and the previous residual both
+                              <= sqrt(eps) x residual0), or within 8x the LG quotient's
+                              cancellation noise eps (|V(d1)| + |V(d0)|) / |d1 - d0| */
+    EDMI_STOP_TOL_R,     /*!< scaled residual <= tol_r * initial scaled residual (tol_r > 0) */
+    EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a (tol_a > 0) */
+    EDMI_STOP_FALLBACK   /*!< params.fallback: Newton failed and the fallback state was stored */
 } edmi_stop;
 
+/** Bits of edmi_step_result.guard_action: what the passivity guard changed. */
+#define EDMI_GUARD_IMPULSE 1u /*!< an impulse along one link (keeps L, J, C; an anchor link
+                                   keeps J about its anchor) moved H towards its target */
+#define EDMI_GUARD_DRAG 2u    /*!< a drag relative to the centre of mass (keeps L, not J):
+                                   no link could remove the excess */
+#define EDMI_GUARD_ROUND 4u   /*!< momentum components moved by a few units in the last place
+                                   (the energy-aware rounding of the stored state) */
+
 /** What one step did. Filled on success and on EDMI_ERR_SINGULAR / NO_CONVERGENCE /
- *  DIVERGED (so the caller can see how far Newton got); zeroed on input errors. */
+ *  DIVERGED / PASSIVITY (so the caller can see how far Newton got); zeroed on input errors. */
 typedef struct edmi_step_result {
     int iterations;      /*!< Newton corrections taken */
     edmi_stop stop;      /*!< why Newton stopped (meaningful when the step succeeded) */
     edmi_real residual;  /*!< final scaled residual (dimensionless, see README) */
     edmi_real residual0; /*!< scaled residual of the predictor */
-    edmi_real floor;     /*!< round-off floor of the final scaled residual, estimated from the
-                              magnitudes entering it (incl. the LG quotient's cancellation) */
+    edmi_real correction; /*!< last Newton correction in the same scaled norm */
     int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
     int halvings;        /*!< halvings of Newton corrections that left the potentials' domain
                               (a link distance 0 or a non-finite residual) */
-    /* The discrete energy balance H_n+1 - H_n = work_ext - diss_scheme - diss_damping, exact
-     * up to the Newton residual: */
-    edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n) */
+    /* The discrete energy balance of the stored states,
+     *     H_n+1 - H_n = work_ext + work_anchor - diss_scheme - diss_damping - diss_guard,
+     * exact up to the Newton residual. With the guard on, H_n+1 - H_n <= work_ext +
+     * work_anchor holds exactly for the stored values (README, "Energy-safe stepping"). */
+    edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n), correctly
+                                 rounded from the stored positions */
+    edmi_real work_anchor;  /*!< work the moving anchors did on the system,
+                                 -sum link_force . (x_n+1 - x_n), correctly rounded */
     edmi_real diss_damping; /*!< energy the dampers removed (>= 0) */
     edmi_real diss_scheme;  /*!< energy the scheme removed: sum over links of (work of the
                                  algorithmic force) - (V(d_n+1) - V(d_n)); >= 0 for GE/PM/PT,
-                                 ~0 for LG, either sign for MP. Only with energy_balance. */
+                                 ~0 for LG, either sign for MP. With the guard or
+                                 energy_balance (evaluated in double-word arithmetic) */
+    edmi_real dh;           /*!< H_n+1 - H_n of the stored states in double-word arithmetic,
+                                 rounded (with the guard or energy_balance) */
+    edmi_real diss_guard;   /*!< energy the guard's changes removed: H change of Newton's
+                                 iterate minus that of the stored state (either sign: the
+                                 energy-aware rounding also undoes rounding losses) */
+    unsigned guard_action;  /*!< EDMI_GUARD_IMPULSE | _DRAG | _ROUND: what the guard did */
 } edmi_step_result;
 
 /** Invariants of a state (section 2 and 4.1 of the paper). */
@@ -339,8 +389,9 @@ typedef struct edmi_invariants {
  * Build a system
  * ---------------------------------------------------------------------------------------- */
 
-/** \brief Defaults: scheme MP, LG closed form, alternate Janz, tol_Q 1e-8, tol_R 1e-10,
- *  tol_A 1e-15, l_max 20 in double (the paper's section 3.4); float values in edmi.c. */
+/** \brief Defaults: scheme MP, LG closed form, alternate Janz, tol_Q 1e-8 (double; 1e-3 in
+ *  float), tol_R = tol_A = 0 (Newton runs to its round-off floor), l_max 20, guard AUTO,
+ *  no fallback, no energy_balance. */
 edmi_params edmi_default_params(void);
 
 /** \brief Empty the system and set its parameters.
@@ -382,6 +433,14 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3]);
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link), EDMI_ERR_PARAM (c < 0 or
  *          not finite), EDMI_ERR_CAPACITY */
 edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index);
+
+/** \brief Move the anchor of link `link` during the next step: it goes from its current
+ *  position to x (straight, at constant speed) while the step runs, and stays at x after it.
+ *  The work this motion does on the system is reported in edmi_step_result.work_anchor and
+ *  the guard's inequality includes it. Call again before every step the anchor moves in.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link, or not an anchor link),
+ *          EDMI_ERR_NONFINITE */
+edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3]);
 
 /** \brief Set body a's external force port; the force is held constant over each step until
  *  set again (its work F . (q_n+1 - q_n) is reported in edmi_step_result.work_ext).

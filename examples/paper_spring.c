@@ -150,7 +150,7 @@ static void run(edmi_scheme scheme, edmi_lg_form form, double dt, long n, int tr
         st->iterations += res.iterations;
         if (res.iterations > st->max_iterations)
             st->max_iterations = res.iterations;
-        st->stalled += res.stop == EDMI_STOP_STALLED;
+        st->stalled += res.stop == EDMI_STOP_STALLED || res.stop == EDMI_STOP_CONVERGED;
         st->lg_switches += res.lg_switches;
         if (track) {
             invariants(&h, j);

@@ -178,11 +178,9 @@ static void ti_params(void)
 
     for (i = 0; i < 20; i++)
         bad[i] = def;
-    bad[nb++].tol_r = EDMI_R(0.0);
     bad[nb++].tol_r = EDMI_R(-1e-10);
     bad[nb++].tol_r = nan;
     bad[nb++].tol_r = inf;
-    bad[nb++].tol_a = EDMI_R(0.0);
     bad[nb++].tol_a = EDMI_R(-1.0);
     bad[nb++].tol_a = nan;
     bad[nb++].tol_q = EDMI_R(0.0);
@@ -194,6 +192,8 @@ static void ti_params(void)
     bad[nb++].scheme = (edmi_scheme)-1;
     bad[nb++].lg_form = (edmi_lg_form)2;
     bad[nb++].lg_alt = (edmi_lg_alt)5;
+    bad[nb++].guard = (edmi_guard_mode)3;
+    bad[nb++].guard = (edmi_guard_mode)-1;
 
     if (!CHECK(ti_build(EDMI_PM)))
         return;

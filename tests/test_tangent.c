@@ -60,29 +60,31 @@
 #endif
 
 /* Newton iteration bound on the paper's problems (dt = 1e-2, 1e-3 neo-Hooke; 1e-3 LJ).
- * The scaled residual of the predictor is r_0 <= 1 by construction (S_p contains
- * |R_p(pred)|, and |R_q(pred)| = dt/m |p_n| <= S_q). Newton's quadratic regime
- * r_{l+1} <= C r_l^2 has C <~ 0.2 here (measured below at 10-50x these steps: 0.11-0.16),
- * so r_l <= (C r_0)^(2^l) / C and r_4 <= 5 (0.2 r_0)^16 <= 3.3e-11 r_0 < tol_r r_0
- * (tol_r = 1e-10): at most 4 corrections, plus one for a residual landing just above a
- * threshold in another target's arithmetic. Float (tol_r = 1e-5) needs fewer. */
+ * The scaled correction of the first step is c_1 <~ r_0 <= 1 (S_p contains |R_p(pred)|,
+ * and |R_q(pred)| = dt/m |p_n| <= S_q). In Newton's quadratic regime c_{l+1} <= C c_l^2
+ * with C <~ 0.2 here (measured below at 10-50x these steps: 0.11-0.16), so
+ * c_l <= (C c_1)^(2^(l-1)) / C: c_4 <= 5 (0.2)^8 = 1.3e-5... the stop needs the predicted
+ * c_l^3 / c_l-1^2 <= eps, reached by l = 4 in double (c_4 <= 5 * 0.2^8, c_5 predicted
+ * <= 2e-21) and l = 3 in float; plus one for a correction landing just above the threshold
+ * in another target's arithmetic. */
 #define TG_ITER_MAX 5
 
-/* Sanity bound on the round-off floor Newton reports (res.floor): eps times ratios of the
- * magnitudes summed into the residual to the scales dividing it. Observed <= 10 eps at the
- * scenes' steps, <= 70 eps at the 10-50x steps of the quadratic test (the LJ pair's
- * end-of-step impulse exceeds the predictor's, which sets the scale). A floor far above
- * this would let STALLED accept an unconverged step;
- * the LG quotient is exempt (its cancellation error is part of its floor, by design). */
-#define TG_FLOOR_MAX (EDMI_R(256.0) * EDMI_EPS)
+/* The accepted state is at Newton's round-off floor: one more Newton correction, computed
+ * here (edmi_residual, edmi_tangent and the test's own elimination), moves the state by at
+ * most this much in the scaled norm. Its size is the residual's noise mapped through the
+ * Newton matrix: a few eps times the ratio of the magnitudes summed into the residual to
+ * the scales (observed <= 6 eps over these scenes in double, <= 20 eps in float, where the
+ * stored state is also rounded to float after the last correction). The LG quotient's
+ * cancellation noise eps |V| / |d1 - d0| is exempt: its STALLED stop is checked instead. */
+#define TG_NEXT_MAX (EDMI_R(64.0) * EDMI_EPS)
 
 /* Quadratic convergence: with r_{l+1} = C r_l^2, log r_{l+1} / log r_l = 2 + log C / log r_l,
  * which tends to 2 as r_l -> 0. We assert >= 1.5 (|log C| <= |log r_l| / 2) on every pair
  * in the asymptotic regime (r_l <= 0.1; before it a long step may even raise the residual)
- * whose smaller residual is resolved: above 32x the library's round-off floor estimate
- * (res.floor; Newton itself accepts 8x floor), so noise moves log r_{l+1} by < 0.3, the
- * order by < 0.15. And the sequence must reach the floor. On the floor nothing is asserted.
- * Double resolves 2-3 such pairs per step, float (floor ~1e-6) one. */
+ * whose smaller residual is resolved: above 32x the residual at which the sequence ended
+ * (the measured noise floor of that step), so noise moves log r_{l+1} by < 0.3, the order
+ * by < 0.15. And the sequence must reach the floor. On the floor nothing is asserted.
+ * Double resolves 2-3 such pairs per step, float one. */
 #define TG_QUAD_ORDER EDMI_R(1.5)
 #define TG_QUAD_REGIME EDMI_R(0.1)
 #define TG_QUAD_ABOVE_FLOOR EDMI_R(32.0)
@@ -273,6 +275,7 @@ static edmi_params tg_conf(int c, int *forced)
                                         EDMI_ALT_PM, EDMI_ALT_PT};
     edmi_params p = edmi_default_params();
     *forced = 0;
+    p.guard = EDMI_GUARD_OFF; /* Newton's own iterate: the guard has its suite (test_guard.c) */
     if (c == 0) {
         p.scheme = EDMI_MP;
     } else if (c == 1) {
@@ -561,9 +564,9 @@ static edmi_real tg_scaled(const edmi_system *old, edmi_real dt, edmi_real (*rq)
     return r;
 }
 
-static edmi_real tg_worst_floor; /* largest res.floor seen (not LG quotient), for the log */
+static edmi_real tg_worst_next; /* largest next correction / eps seen (not LG quotient) */
 
-static int tg_stops[4]; /* stop reasons of the checked steps, for the log */
+static int tg_stops[5]; /* stop reasons of the checked steps, for the log */
 
 /* A stalled residual may exceed the previous one by round-off noise: at most this factor
  * times the sqrt(eps) r0 threshold of the header's stagnation clause. */
@@ -572,14 +575,88 @@ static int tg_stops[4]; /* stop reasons of the checked steps, for the log */
 /* Two evaluations of the same norms in another order: a few eps relative. */
 #define TG_U_SCALED (EDMI_R(8.0) * EDMI_EPS)
 
+/* Solve A x = b (n x n, row-major, overwritten) by Gaussian elimination with partial
+ * pivoting: the test's own solver, independent of the library's banded one. */
+static int tg_solve(edmi_real *a, edmi_real *b, int n)
+{
+    int i, j, k;
+    for (k = 0; k < n; k++) {
+        int p = k;
+        for (i = k + 1; i < n; i++)
+            if (tg_abs(a[i * n + k]) > tg_abs(a[p * n + k]))
+                p = i;
+        if (a[p * n + k] == EDMI_R(0.0))
+            return 0;
+        for (j = 0; j < n; j++) {
+            edmi_real x = a[k * n + j];
+            a[k * n + j] = a[p * n + j];
+            a[p * n + j] = x;
+        }
+        {
+            edmi_real x = b[k];
+            b[k] = b[p];
+            b[p] = x;
+        }
+        for (i = k + 1; i < n; i++) {
+            edmi_real f = a[i * n + k] / a[k * n + k];
+            for (j = k; j < n; j++)
+                a[i * n + j] -= f * a[k * n + j];
+            b[i] -= f * b[k];
+        }
+    }
+    for (i = n - 1; i >= 0; i--) {
+        for (j = i + 1; j < n; j++)
+            b[i] -= a[i * n + j] * b[j];
+        b[i] /= a[i * n + i];
+    }
+    return 1;
+}
+
+/* The scaled size of one more Newton correction from the end state (q1, p1) of a step from
+ * tg_old: with R_q = q1 - q0 - h (p0 + p1), R_p = p1 - p0 + F(q1), h = dt/(2m) and K =
+ * dR_p/dq1, Newton's (dq, dp) satisfies dq = -R_q + h dp and (I + K h) dp = -R_p + K R_q. */
+static edmi_real tg_next_correction(edmi_real dt, edmi_real (*q1)[3], edmi_real (*p1)[3],
+                                    edmi_real (*rq)[3], edmi_real (*rp)[3], edmi_real (*rp0)[3])
+{
+    static edmi_real k[TG_N * TG_N], a[TG_N * TG_N];
+    edmi_real b[TG_N], dq[TG_N], c = EDMI_R(0.0);
+    int nb = tg_old.n_bodies, n = 3 * nb, i, j;
+    if (!CHECK_STATUS(edmi_tangent(&tg_old, &tg_work, dt, TG_C3(q1), TG_C3(p1), k), EDMI_OK))
+        return EDMI_REAL_MAX;
+    for (i = 0; i < n; i++) {
+        b[i] = -rp[i / 3][i % 3];
+        for (j = 0; j < n; j++) {
+            edmi_real h = dt / (EDMI_R(2.0) * tg_old.body[j / 3].m);
+            a[i * n + j] = (i == j ? EDMI_R(1.0) : EDMI_R(0.0)) + k[i * n + j] * h;
+            b[i] += k[i * n + j] * rq[j / 3][j % 3];
+        }
+    }
+    if (!CHECK(tg_solve(a, b, n)))
+        return EDMI_REAL_MAX;
+    for (i = 0; i < n; i++)
+        dq[i] = -rq[i / 3][i % 3] + dt / (EDMI_R(2.0) * tg_old.body[i / 3].m) * b[i];
+    for (i = 0; i < nb; i++) {
+        const edmi_body *bd = &tg_old.body[i];
+        edmi_real sp = tg_norm(bd->p) + tg_norm(rp0[i]);
+        edmi_real sq = tg_norm(bd->q) + dt / bd->m * sp;
+        if (sp == EDMI_R(0.0))
+            sp = EDMI_R(1.0);
+        if (sq == EDMI_R(0.0))
+            sq = EDMI_R(1.0);
+        c = tg_max(c, tg_norm(dq + 3 * i) / sq);
+        c = tg_max(c, tg_norm(b + 3 * i) / sp);
+    }
+    return c;
+}
+
 /* Checks one successful step of tg_old -> tg_sys against the stopping test. */
 static void tg_check_converged(edmi_real dt, const edmi_step_result *res)
 {
     edmi_real q0[TG_NB][3], p0[TG_NB][3], q1[TG_NB][3], p1[TG_NB][3];
     edmi_real rq[TG_NB][3], rp[TG_NB][3], rq0[TG_NB][3], rp0[TG_NB][3];
-    edmi_real r, r0, bound;
+    edmi_real r, r0, bound = EDMI_R(0.0), next;
     const edmi_params *prm = &tg_old.params;
-    int a, i;
+    int a, i, quotient = prm->scheme == EDMI_LG && prm->lg_form == EDMI_LG_QUOTIENT;
     for (a = 0; a < tg_old.n_bodies; a++)
         for (i = 0; i < 3; i++) {
             q0[a][i] = tg_old.body[a].q[i];
@@ -599,32 +676,34 @@ static void tg_check_converged(edmi_real dt, const edmi_step_result *res)
     CHECK_NEAR(res->residual, r, EDMI_R(0.0), TG_U_SCALED);
     /* ... and it meets the stopping test it claims (the header's edmi_stop). */
     CHECK(res->iterations >= 1 && res->iterations <= prm->l_max);
+    next = tg_next_correction(dt, q1, p1, rq, rp, rp0);
     switch (res->stop) {
+    case EDMI_STOP_CONVERGED:
+        /* the independent check: one more Newton correction changes nothing that matters */
+        CHECK(quotient || next <= TG_NEXT_MAX);
+        break;
     case EDMI_STOP_TOL_R:
         bound = prm->tol_r * res->residual0;
+        CHECK(prm->tol_r > EDMI_R(0.0) && res->residual <= bound);
         break;
     case EDMI_STOP_TOL_A:
         bound = prm->tol_a;
+        CHECK(prm->tol_a > EDMI_R(0.0) && res->residual <= bound);
         break;
     case EDMI_STOP_STALLED:
-        /* "<= 8 x the estimated floor, or it stopped halving after Newton's quadratic
-         * regime (previous residual <= sqrt(eps) x residual0)". The second clause bounds
-         * only the previous residual; a residual that has stalled at round-off stays within
-         * a small factor of it, TG_STALL_GROWTH. */
-        bound = tg_max(EDMI_R(8.0) * res->floor,
-                       TG_STALL_GROWTH * EDMI_SQRT(EDMI_EPS) * res->residual0);
+        /* "previous residual <= sqrt(eps) x residual0, and it stopped halving": a residual
+         * that has stalled at round-off stays within a small factor of the threshold */
+        bound = TG_STALL_GROWTH * EDMI_SQRT(EDMI_EPS) * res->residual0;
+        CHECK(res->residual <= bound);
+        CHECK(r <= bound * (EDMI_R(1.0) + TG_U_SCALED));
+        CHECK(quotient || next <= TG_NEXT_MAX);
         break;
     default:
-        bound = EDMI_R(0.0);
-        CHECK(0 && "unknown stop reason");
+        CHECK(0 && "unexpected stop reason");
     }
-    CHECK(res->residual <= bound);
-    CHECK(r <= bound * (EDMI_R(1.0) + TG_U_SCALED));
-    tg_stops[(int)res->stop & 3]++; /* the enum may be 1 byte (arm -fshort-enums) */
-    if (!(prm->scheme == EDMI_LG && prm->lg_form == EDMI_LG_QUOTIENT)) { /* no cancellation */
-        CHECK(res->floor > EDMI_R(0.0) && res->floor <= TG_FLOOR_MAX);
-        tg_worst_floor = tg_max(tg_worst_floor, res->floor);
-    }
+    tg_stops[(int)res->stop % 5]++; /* the enum may be 1 byte (arm -fshort-enums) */
+    if (!quotient)
+        tg_worst_next = tg_max(tg_worst_next, next / EDMI_EPS);
 }
 
 static void tg_check_step(int which, int conf)
@@ -662,6 +741,7 @@ static void tg_newton_counts(void)
             tg_scene sc;
             edmi_params prm = edmi_default_params();
             prm.scheme = schemes[s];
+            prm.guard = EDMI_GUARD_OFF; /* Newton's iterate is what is checked */
             if (!CHECK(tg_build(run < 2 ? TG_NEO_ANCHOR : TG_LJ_PAIR, &prm, &sc)))
                 continue;
             if (run == 1)
@@ -696,25 +776,23 @@ static void tg_newton_counts(void)
 }
 
 /* Residuals r_l after l = 1, 2, ... corrections of one step, from fresh copies with
- * l_max = l and tolerances no iterate meets (tol = eps^2): EDMI_ERR_NO_CONVERGENCE with
- * res.residual filled, until the residual reaches its floor and the step stops STALLED. */
+ * l_max = l: EDMI_ERR_NO_CONVERGENCE with res.residual filled, until Newton stops at its
+ * floor (CONVERGED or STALLED). */
 static const char *const tg_scheme_name[5] = {"MP", "LG", "GE", "PM", "PT"};
 
 static int tg_quadratic(int which, edmi_scheme scheme, edmi_real dt)
 {
-    edmi_real r[16], fl[16];
+    edmi_real r[16];
     int l, nl = 0, pairs = 0;
     edmi_step_result res;
     tg_scene sc;
     edmi_params prm = edmi_default_params();
     prm.scheme = scheme;
-    prm.tol_r = EDMI_EPS * EDMI_EPS;
-    prm.tol_a = EDMI_EPS * EDMI_EPS;
+    prm.guard = EDMI_GUARD_OFF;
     if (!CHECK(tg_build(which, &prm, &sc)))
         return 0;
     memcpy(&tg_old, &tg_sys, sizeof tg_sys);
     r[0] = EDMI_R(0.0);
-    fl[0] = EDMI_R(0.0);
     for (l = 1; l < 16; l++) {
         edmi_status st;
         memcpy(&tg_sys, &tg_old, sizeof tg_sys);
@@ -723,11 +801,11 @@ static int tg_quadratic(int which, edmi_scheme scheme, edmi_real dt)
         if (l == 1)
             r[0] = res.residual0;
         r[l] = res.residual;
-        fl[l] = res.floor;
         nl = l;
         if (st == EDMI_OK) {
-            CHECK(res.stop == EDMI_STOP_STALLED && res.iterations == l);
-            tg_check_converged(dt, &res); /* the stalled state is still a solution */
+            CHECK((res.stop == EDMI_STOP_CONVERGED || res.stop == EDMI_STOP_STALLED) &&
+                  res.iterations == l);
+            tg_check_converged(dt, &res);
             break;
         }
         if (!CHECK_STATUS(st, EDMI_ERR_NO_CONVERGENCE))
@@ -748,8 +826,8 @@ static int tg_quadratic(int which, edmi_scheme scheme, edmi_real dt)
     th_newline();
     CHECK(nl < 16 - 1); /* reached the floor */
     for (l = 1; l < nl; l++) {
-        /* both residuals resolved: above the floor by TG_QUAD_ABOVE_FLOOR, below 1 */
-        if (r[l + 1] > TG_QUAD_ABOVE_FLOOR * fl[l + 1] && r[l] <= TG_QUAD_REGIME) {
+        /* both residuals resolved: above the final one by TG_QUAD_ABOVE_FLOOR, below 1 */
+        if (r[l + 1] > TG_QUAD_ABOVE_FLOOR * r[nl] && r[l] <= TG_QUAD_REGIME) {
             edmi_real order = tg_log(r[l + 1]) / tg_log(r[l]);
             pairs++;
             if (!CHECK(order >= TG_QUAD_ORDER))
@@ -764,8 +842,8 @@ void suite_tangent(void)
     int s, c, pairs;
     th_suite("tangent: residual, consistent tangent vs FD, Newton convergence");
     tg_worst_fd = EDMI_R(0.0);
-    tg_worst_floor = EDMI_R(0.0);
-    tg_stops[0] = tg_stops[1] = tg_stops[2] = tg_stops[3] = 0;
+    tg_worst_next = EDMI_R(0.0);
+    tg_stops[0] = tg_stops[1] = tg_stops[2] = tg_stops[3] = tg_stops[4] = 0;
     for (s = 0; s < TG_NSCENES; s++)
         for (c = 0; c < TG_NCONF; c++) {
             tg_check_trial(s, c);
@@ -783,9 +861,9 @@ void suite_tangent(void)
     pairs += tg_quadratic(TG_CHAIN, EDMI_MP, EDMI_R(0.2));
     th_note_int("resolved pairs in the asymptotic regime", pairs);
     CHECK(pairs >= TG_QUAD_MIN_PAIRS);
-    th_note_real("largest res.floor / eps (converged steps, not LG quotient)",
-                 tg_worst_floor / EDMI_EPS);
-    th_note_int("checked steps stopped on tol_r", tg_stops[EDMI_STOP_TOL_R]);
-    th_note_int("checked steps stopped on tol_a", tg_stops[EDMI_STOP_TOL_A]);
+    th_note_real("largest next Newton correction / eps at accepted states (not LG quotient)",
+                 tg_worst_next);
+    th_note_int("checked steps stopped converged", tg_stops[EDMI_STOP_CONVERGED]);
     th_note_int("checked steps stopped stalled", tg_stops[EDMI_STOP_STALLED]);
+    CHECK(tg_stops[EDMI_STOP_TOL_R] == 0 && tg_stops[EDMI_STOP_TOL_A] == 0); /* off by default */
 }

@@ -635,9 +635,9 @@ int main(int argc, char **argv)
         s = edmi_step(&sys, &work, (edmi_real)dt, &res);
         if (s != EDMI_OK) {
             fprintf(stderr, "%sedmi-sim: step %ld of %ld (from t = %.10g) failed: %s after %d "
-                    "Newton iterations (scaled residual %.3g, round-off floor %.3g)\n",
+                    "Newton iterations (scaled residual %.3g, last correction %.3g)\n",
                     reported && tty ? "\n" : "", k, n_steps, (double)sys.t, edmi_status_name(s),
-                    res.iterations, (double)res.residual, (double)res.floor);
+                    res.iterations, (double)res.residual, (double)res.correction);
             failed = 1;
             break;
         }
@@ -652,7 +652,7 @@ int main(int argc, char **argv)
         st.iterations += res.iterations;
         if (res.iterations > st.max_iterations)
             st.max_iterations = res.iterations;
-        if (res.stop == EDMI_STOP_STALLED)
+        if (res.stop == EDMI_STOP_CONVERGED || res.stop == EDMI_STOP_STALLED)
             st.stalled++;
         if (res.lg_switches > 0)
             st.lg_switch_steps++;
