@@ -52,7 +52,7 @@ run: $(HOST)/paper_spring $(SIM_BIN)
 
 # ---- tests: the same sources in four configurations ------------------------------------------
 # tests/test_main.c is matched by test_*.c too; $(sort) removes the duplicate.
-TEST_SRC := $(sort tests/harness.c tests/host_io.c $(wildcard tests/test_*.c tests/scenes.c))
+TEST_SRC := $(sort tests/harness.c tests/host_io.c $(wildcard tests/test_*.c tests/scenes.c tests/passive.c))
 TEST_HDR := $(wildcard tests/*.h)
 CONFIGS := double float double-san float-san
 real_of = $(firstword $(subst -, ,$(1)))

@@ -1492,8 +1492,9 @@ static int edmi__excess(const edmi__balance *bal, edmi_real *e, edmi_real *margi
     edmi_real t = bal->err_v + bal->err_k + edmi__abs(x.lo) +
                   EDMI__DW_ERR * (edmi__abs(bal->dv.hi) + edmi__abs(bal->dk.hi) +
                                   edmi__abs(bal->w.hi));
-    /* rounded upwards: the three sums above have relative error < 4 eps */
-    *margin = t + t * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN;
+    /* rounded upwards: the three sums above have relative error < 4 eps (0 stays 0: a state
+     * whose every term is unchanged has an exactly zero change) */
+    *margin = t > EDMI__ZERO ? t + t * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN : EDMI__ZERO;
     *e = x.hi;
     return edmi__finite(x.hi) && edmi__finite(*margin);
 }
@@ -1995,6 +1996,14 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
     return 1;
 }
 
+/* Slack of the guard's target per step, relative to the magnitude of H's terms: a stored
+ * state whose H change is within this of the target, and certified, is left as it is. A
+ * physical budget, not a precision's: 2^-43 = 1.1e-13 of H per step is 1e-4 of H over 10^9
+ * steps. Double's grid (~1e-16 H) lies well inside it, so in double the guard acts only when
+ * a step would exceed the work; float's (~1e-7 H) lies far outside, so in float every step
+ * is rounded towards the target. */
+#define EDMI__GUARD_SLACK (EDMI_R(1.0) / EDMI_R(8796093022208.0))
+
 /* After the search, if its working-precision estimate left the stored state a hair above the
  * certificate, step the finest picked component one unit towards zero, at most this often
  * (the last times the coarsest). */
@@ -2011,9 +2020,11 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     edmi__aim t;
     int n, k[3], i, r;
     t.diss = diss;
-    t.tol = diss / EDMI_R(8.0);
     if (!edmi__reaim(sys, work, bal, &t))
         return EDMI_ERR_PASSIVITY;
+    /* err_v + err_k = EDMI__DW_ERR times the magnitude of H's terms (plus a tiny) */
+    t.tol = edmi__max(diss / EDMI_R(8.0),
+                      EDMI__GUARD_SLACK * (bal->err_v + bal->err_k) / EDMI__DW_ERR);
     h_newton = edmi__dw_add(bal->dv, bal->dk);
     if (!edmi__on_target(&t)) {
         /* the bulk by an impulse that keeps J, when more than a couple of units are needed */

@@ -11,5 +11,6 @@ void suite_paper(void);      /* test_paper.c: the paper's H0, J0 and accuracy ta
 void suite_hard(void);       /* test_hard.c: circular orbit, LG switch, near-collision, stiff */
 void suite_solver(void);     /* test_solver.c: banded solve vs body numbering, bit-reproducible */
 void suite_effects(void);    /* test_effects.c: field, dampers, ports, energy balance, scenes */
+void suite_guard(void);      /* test_guard.c: passivity on stored states, d = 0, moving anchors */
 
 #endif

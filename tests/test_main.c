@@ -15,5 +15,6 @@ int main(void)
     suite_hard();
     suite_solver();
     suite_effects();
+    suite_guard();
     return th_finish() == 0 ? 0 : 1;
 }

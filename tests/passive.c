@@ -1,0 +1,413 @@
+/* The passivity inequality on stored states, checked in long double, and the adversarial
+ * scenes of the guard's suite and soak (see passive.h).
+ *
+ * Independence. The library certifies H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext +
+ * work_anchor with its own double-word evaluation. The check here shares none of that code:
+ * it evaluates each link's V(|q_a - x_b|) of both stored states in long double from the
+ * potentials' textbook formulas and each body's kinetic change as (p1 - p0).(p1 + p0)/2m,
+ * subtracts term by term, and bounds its own rounding by TP_ERR_ULPS units of long double's
+ * epsilon times the terms' magnitudes M (tp_pot: M u bounds a term's error, u = eps/2; the
+ * factor 16 eps = 32 u covers the dozen roundings along each formula and the sums over
+ * terms). On x86-64 long double has 64 bits of significand: for float states the check
+ * resolves ~1e-17 of the terms, far below float's grid (~6e-8 of them per unit of a
+ * coordinate), for double states ~1e-17 too, a tenth of double's grid. On the Arm targets
+ * long double is double: float states are still resolved (~4e-15), double states only to
+ * about their own grid, which is what the count `uncertain` reports. */
+#include "passive.h"
+
+#include <float.h>
+
+#define TP_ERR_ULPS 16.0L
+
+static long double tp_absl(long double x) { return x < 0.0L ? -x : x; }
+
+static long double tp_sqrtl(long double x) { return x > 0.0L ? __builtin_sqrtl(x) : 0.0L; }
+
+/* V(d) of a built-in potential in long double, with s = d^2, and a magnitude M with
+ * |computed V - V| <= M u (u = LDBL_EPSILON/2) for the formula as written: each of its
+ * roundings is at most u times an intermediate that M bounds, and the rounding of d itself
+ * (at most 3u d after the sum of squares and the square root) moves V by |V'| 3u d, which M
+ * also bounds. Near a rest length V is small but the rounding of d - rb is not, hence terms
+ * like |d - rb| (d + rb). 0 for a user potential (not checkable here). */
+static int tp_pot(const edmi_potential *p, long double s, long double d, long double *v,
+                  long double *mag)
+{
+    long double a = (long double)p->a, b = (long double)p->b, x, t;
+    switch (p->kind) {
+    case EDMI_POT_HARMONIC: /* V' d = a |x| d */
+        x = d - b;
+        *v = 0.5L * a * x * x;
+        *mag = 4.0L * a * tp_absl(x) * (d + b) + 4.0L * *v;
+        return 1;
+    case EDMI_POT_QUARTIC: /* V' d = a |x| s */
+        x = s - b * b;
+        *v = 0.25L * a * x * x;
+        *mag = 4.0L * a * tp_absl(x) * (s + b * b) + 4.0L * *v;
+        return 1;
+    case EDMI_POT_NEO_HOOKE: /* V' d = a/3 |x| (d^2 + d b + b^2) / d */
+        if (!(d > 0.0L))
+            return 0;
+        x = d - b;
+        *v = a * x * x * (d + 2.0L * b) / (6.0L * d);
+        *mag = 2.0L * a * tp_absl(x) * (d + b) * (d + 2.0L * b) / d + 8.0L * *v;
+        return 1;
+    case EDMI_POT_LJ: /* V' d = 4 a (12 t^12 + 6 t^6) */
+        if (!(d > 0.0L))
+            return 0;
+        t = b / d;
+        t = t * t * t * t * t * t;
+        *v = 4.0L * a * t * (t - 1.0L);
+        *mag = 4.0L * a * t * (t + 1.0L) * 64.0L;
+        return 1;
+    case EDMI_POT_INVERSE: /* V' d = |V| */
+        if (!(d > 0.0L))
+            return 0;
+        *v = -a / d;
+        *mag = 8.0L * tp_absl(a) / d;
+        return 1;
+    case EDMI_POT_USER:
+    default:
+        return 0;
+    }
+}
+
+/* The link vector of link j in state s, and its squared length, in long double. */
+static long double tp_link_sq(const edmi_system *s, int j, long double *d)
+{
+    const edmi_link *lk = &s->link[j];
+    const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : s->body[lk->b].q;
+    long double r0 = (long double)s->body[lk->a].q[0] - (long double)xb[0];
+    long double r1 = (long double)s->body[lk->a].q[1] - (long double)xb[1];
+    long double r2 = (long double)s->body[lk->a].q[2] - (long double)xb[2];
+    long double sq = r0 * r0 + r1 * r1 + r2 * r2;
+    *d = tp_sqrtl(sq);
+    return sq;
+}
+
+int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
+               tp_delta *out)
+{
+    long double dh = 0.0L, mag = 0.0L;
+    int a, i, j;
+    for (a = 0; a < s0->n_bodies; a++) {
+        long double m2 = 2.0L * (long double)s0->body[a].m, k = 0.0L, km = 0.0L;
+        /* K1 - K0 = sum (p1 - p0)(p1 + p0) / 2m: p1 - p0 exact or within u of itself (two
+         * stored values, at most 53 significant bits, in 64), so the error is a few u
+         * times the terms of the change, not of K */
+        for (i = 0; i < 3; i++) {
+            long double p0 = (long double)s0->body[a].p[i], p1 = (long double)s1->body[a].p[i];
+            k += (p1 - p0) * (p1 + p0);
+            km += tp_absl(p1 - p0) * (tp_absl(p1) + tp_absl(p0));
+        }
+        dh += k / m2;
+        mag += 8.0L * km / m2;
+        if (s0->has_field) /* V = -m g . q, changed by -m g . (q1 - q0) */
+            for (i = 0; i < 3; i++) {
+                long double g = (long double)s0->g[i], m = (long double)s0->body[a].m;
+                long double dq = (long double)s1->body[a].q[i] - (long double)s0->body[a].q[i];
+                dh -= m * g * dq;
+                mag += 8.0L * tp_absl(m * g * dq);
+            }
+    }
+    for (j = 0; j < s0->n_links; j++) {
+        long double d0, d1, sq0 = tp_link_sq(s0, j, &d0), sq1 = tp_link_sq(s1, j, &d1);
+        long double v0, v1, m0, m1;
+        if (!tp_pot(&s0->link[j].pot, sq0, d0, &v0, &m0) ||
+            !tp_pot(&s1->link[j].pot, sq1, d1, &v1, &m1))
+            return 0;
+        dh += v1 - v0;
+        mag += m0 + m1;
+    }
+    out->dh = dh;
+    out->w = (long double)res->work_ext + (long double)res->work_anchor;
+    out->err = TP_ERR_ULPS * LDBL_EPSILON * (mag + tp_absl(out->w));
+    return dh - dh == 0.0L && out->err - out->err == 0.0L;
+}
+
+long double tp_h(const edmi_system *s)
+{
+    long double h = 0.0L;
+    int a, i, j;
+    for (a = 0; a < s->n_bodies; a++) {
+        long double k = 0.0L;
+        for (i = 0; i < 3; i++)
+            k += (long double)s->body[a].p[i] * (long double)s->body[a].p[i];
+        h += k / (2.0L * (long double)s->body[a].m);
+        if (s->has_field)
+            for (i = 0; i < 3; i++)
+                h -= (long double)s->body[a].m * (long double)s->g[i] *
+                     (long double)s->body[a].q[i];
+    }
+    for (j = 0; j < s->n_links; j++) {
+        long double d, sq = tp_link_sq(s, j, &d), v, m;
+        if (tp_pot(&s->link[j].pot, sq, d, &v, &m))
+            h += v;
+    }
+    return h;
+}
+
+/* ---- scenes ------------------------------------------------------------------------------ */
+
+const char *tp_scene_name(tp_scene s)
+{
+    static const char *const names[TP_NSCENES] = {
+        "paper spring",          "virtual spring, pumping port F = +c v",
+        "virtual spring, random port", "virtual spring, port flipping sign every tick",
+        "stiff harmonic, omega dt = 100", "LJ near-collisions on tethers",
+        "virtual coupling through d = 0", "hanging chain, field, dampers, random port"};
+    return (unsigned)s < (unsigned)TP_NSCENES ? names[s] : "?";
+}
+
+/* A deterministic uniform random number in [-1, 1) (a 32-bit LCG; the state is per run). */
+static unsigned long tp_seed;
+
+static edmi_real tp_rand(void)
+{
+    tp_seed = (tp_seed * 1664525UL + 1013904223UL) & 0xffffffffUL;
+    return (edmi_real)((long)(tp_seed >> 8) - 0x800000L) / (edmi_real)0x800000L;
+}
+
+/* sin x for the hand's trajectory, without libm: x reduced to [-pi, pi], then a Taylor
+ * series to 1e-16 (the trajectory only needs to be smooth and reproducible). */
+static edmi_real tp_sin(edmi_real x)
+{
+    static const edmi_real two_pi = EDMI_R(6.283185307179586);
+    edmi_real t, sum, term;
+    int k;
+    x -= two_pi * (edmi_real)(long)(x / two_pi);
+    if (x > EDMI_R(3.141592653589793))
+        x -= two_pi;
+    if (x < EDMI_R(-3.141592653589793))
+        x += two_pi;
+    t = x * x;
+    sum = term = x;
+    for (k = 1; k < 12; k++) {
+        term *= -t / (edmi_real)((2 * k) * (2 * k + 1));
+        sum += term;
+    }
+    return sum;
+}
+
+/* The hand of TP_COUPLING at time t: through the origin (where the body starts) at t = 0,
+ * 20-60 mm excursions at 1, 3 and 7 Hz. */
+static void tp_hand(edmi_real t, edmi_real x[3])
+{
+    static const edmi_real w = EDMI_R(6.283185307179586);
+    x[0] = EDMI_R(0.05) * tp_sin(w * t) + EDMI_R(0.02) * tp_sin(EDMI_R(7.0) * w * t);
+    x[1] = EDMI_R(0.03) * tp_sin(EDMI_R(3.0) * w * t);
+    x[2] = EDMI_R(0.01) * tp_sin(EDMI_R(2.0) * w * t);
+}
+
+static edmi_status tp_body(edmi_system *sys, edmi_real m, edmi_real x, edmi_real y, edmi_real z,
+                           edmi_real px, edmi_real py, edmi_real pz)
+{
+    edmi_real q[3], p[3];
+    q[0] = x, q[1] = y, q[2] = z;
+    p[0] = px, p[1] = py, p[2] = pz;
+    return edmi_add_body(sys, m, q, p, 0);
+}
+
+static edmi_status tp_anchor(edmi_system *sys, int a, edmi_real x, edmi_real y, edmi_real z,
+                             edmi_potential pot)
+{
+    edmi_real p[3];
+    p[0] = x, p[1] = y, p[2] = z;
+    return edmi_add_anchor(sys, a, p, &pot, 0);
+}
+
+edmi_status tp_build(tp_scene s, const edmi_params *prm, edmi_system *sys, edmi_real *dt)
+{
+    edmi_status st = edmi_init(sys, prm);
+    static const edmi_real gz[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(-9.81)};
+    int i;
+    tp_seed = 12345UL + (unsigned long)s;
+    if (st != EDMI_OK)
+        return st;
+    switch (s) {
+    case TP_SPRING:
+        *dt = EDMI_R(1e-3);
+        st = tp_body(sys, EDMI_R(10.0), EDMI_R(2.0), EDMI_R(1.0), EDMI_R(1.0), EDMI_R(-30.0),
+                     EDMI_R(15.0), EDMI_R(45.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                           edmi_pot_neo_hooke(EDMI_R(1e3), EDMI_R(4.0)));
+        return st;
+    case TP_PUMP:
+    case TP_RANDOM:
+    case TP_FLIP:
+        *dt = EDMI_R(1e-3);
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(0.06), EDMI_R(0.01), EDMI_R(0.0), EDMI_R(0.0),
+                     EDMI_R(0.02), EDMI_R(0.01));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                           edmi_pot_harmonic(EDMI_R(1e4), EDMI_R(0.05)));
+        if (st == EDMI_OK && s == TP_PUMP)
+            st = edmi_add_damper(sys, 0, EDMI_R(0.05), 0);
+        return st;
+    case TP_STIFF: /* Newton may fail here (it cycles in float): the fallback keeps it passive */
+        sys->params.fallback = 1;
+        *dt = EDMI_R(0.1);
+        st = tp_body(sys, EDMI_R(1.0), EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                     EDMI_R(300.0), EDMI_R(100.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                           edmi_pot_harmonic(EDMI_R(1e6), EDMI_R(0.5)));
+        return st;
+    case TP_COLLIDE: {
+        edmi_potential lj = edmi_pot_lj(EDMI_R(100.0), EDMI_R(1.0));
+        edmi_potential tether = edmi_pot_harmonic(EDMI_R(50.0), EDMI_R(0.0));
+        *dt = EDMI_R(5e-4);
+        st = tp_body(sys, EDMI_R(1.0), EDMI_R(-1.5), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(30.0),
+                     EDMI_R(0.3), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_body(sys, EDMI_R(1.0), EDMI_R(1.5), EDMI_R(0.05), EDMI_R(0.0),
+                         EDMI_R(-30.0), EDMI_R(-0.2), EDMI_R(0.1));
+        if (st == EDMI_OK)
+            st = edmi_add_pair(sys, 0, 1, &lj, 0);
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(-1.5), EDMI_R(0.0), EDMI_R(0.0), tether);
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 1, EDMI_R(1.5), EDMI_R(0.0), EDMI_R(0.0), tether);
+        return st;
+    }
+    case TP_COUPLING:
+        *dt = EDMI_R(1e-3);
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                     EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                           edmi_pot_harmonic(EDMI_R(1e3), EDMI_R(0.0)));
+        if (st == EDMI_OK)
+            st = edmi_add_damper(sys, 0, EDMI_R(0.5), 0);
+        return st;
+    case TP_CHAIN:
+    default: {
+        static const edmi_real mass[4] = {EDMI_R(1.0), EDMI_R(2.0), EDMI_R(1.5), EDMI_R(0.5)};
+        edmi_potential spring = edmi_pot_neo_hooke(EDMI_R(500.0), EDMI_R(1.0));
+        *dt = EDMI_R(1e-3);
+        for (i = 0; i < 4 && st == EDMI_OK; i++)
+            st = tp_body(sys, mass[i], EDMI_R(0.3) * (edmi_real)(i + 1), EDMI_R(0.0),
+                         -EDMI_R(0.9) * (edmi_real)(i + 1), EDMI_R(0.0),
+                         EDMI_R(0.5) * (edmi_real)i, EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0), spring);
+        for (i = 1; i < 4 && st == EDMI_OK; i++)
+            st = edmi_add_pair(sys, i - 1, i, &spring, 0);
+        for (i = 0; i < 4 && st == EDMI_OK; i++)
+            st = edmi_add_damper(sys, i, EDMI_R(0.2), 0);
+        if (st == EDMI_OK)
+            st = edmi_set_field(sys, gz);
+        return st;
+    }
+    }
+}
+
+void tp_control(tp_scene s, edmi_system *sys, long n)
+{
+    edmi_real f[3], x[3];
+    int i;
+    switch (s) {
+    case TP_PUMP: { /* F = +c v, |F| <= 2 N: a controller that pumps energy in */
+        edmi_real c = EDMI_R(0.3) / sys->body[0].m, mag;
+        for (i = 0; i < 3; i++)
+            f[i] = c * sys->body[0].p[i];
+        mag = EDMI_SQRT(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        if (mag > EDMI_R(2.0))
+            for (i = 0; i < 3; i++)
+                f[i] *= EDMI_R(2.0) / mag;
+        (void)edmi_set_force(sys, 0, f);
+        break;
+    }
+    case TP_RANDOM:
+        for (i = 0; i < 3; i++)
+            f[i] = EDMI_R(5.0) * tp_rand();
+        (void)edmi_set_force(sys, 0, f);
+        break;
+    case TP_FLIP:
+        f[0] = EDMI_R(3.0), f[1] = EDMI_R(2.0), f[2] = EDMI_R(1.0);
+        if (n & 1)
+            for (i = 0; i < 3; i++)
+                f[i] = -f[i];
+        (void)edmi_set_force(sys, 0, f);
+        break;
+    case TP_COUPLING:
+        tp_hand((edmi_real)(n + 1) * EDMI_R(1e-3), x);
+        (void)edmi_move_anchor(sys, 0, x);
+        break;
+    case TP_CHAIN:
+        for (i = 0; i < 3; i++)
+            f[i] = EDMI_R(2.0) * tp_rand();
+        (void)edmi_set_force(sys, 3, f);
+        break;
+    default:
+        break;
+    }
+}
+
+/* Snapshots: systems are tens of kB, too large for a target's stack. */
+static edmi_system tp_sys, tp_old;
+static edmi_workspace tp_work;
+
+static void tp_j(const edmi_system *s, long double j[3])
+{
+    int a;
+    j[0] = j[1] = j[2] = 0.0L;
+    for (a = 0; a < s->n_bodies; a++) {
+        long double q0 = s->body[a].q[0], q1 = s->body[a].q[1], q2 = s->body[a].q[2];
+        long double p0 = s->body[a].p[0], p1 = s->body[a].p[1], p2 = s->body[a].p[2];
+        j[0] += q1 * p2 - q2 * p1;
+        j[1] += q2 * p0 - q0 * p2;
+        j[2] += q0 * p1 - q1 * p0;
+    }
+}
+
+void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
+{
+    edmi_real dt;
+    long double j0[3], jn, scale;
+    long k;
+    int track_j = s == TP_SPRING || s == TP_STIFF;
+    st->steps = st->violations = st->rises = st->uncertain = 0;
+    st->fallbacks = st->guarded = st->iterations = 0;
+    st->worst = -1.0L;
+    st->sum_w = st->max_dj = 0.0L;
+    st->status = tp_build(s, prm, &tp_sys, &dt);
+    if (st->status != EDMI_OK)
+        return;
+    st->h0 = st->h_last = tp_h(&tp_sys);
+    scale = tp_absl(st->h0) > 0.0L ? tp_absl(st->h0) : 1.0L;
+    tp_j(&tp_sys, j0);
+    jn = tp_sqrtl(j0[0] * j0[0] + j0[1] * j0[1] + j0[2] * j0[2]);
+    for (k = 0; k < n; k++) {
+        edmi_step_result res;
+        tp_delta d;
+        tp_control(s, &tp_sys, k);
+        tp_old = tp_sys;
+        st->status = edmi_step(&tp_sys, &tp_work, dt, &res);
+        if (st->status != EDMI_OK)
+            return;
+        st->steps++;
+        st->iterations += res.iterations;
+        st->fallbacks += res.stop == EDMI_STOP_FALLBACK;
+        st->guarded += res.guard_action != 0;
+        if (!tp_delta_h(&tp_old, &tp_sys, &res, &d)) {
+            st->violations++; /* a state the check cannot evaluate is not accepted */
+            continue;
+        }
+        st->sum_w += d.w;
+        st->violations += d.dh - d.w > d.err;
+        st->uncertain += tp_absl(d.dh - d.w) <= d.err;
+        st->rises += d.dh > d.err;
+        if ((d.dh - d.w) / scale > st->worst)
+            st->worst = (d.dh - d.w) / scale;
+        if (track_j && (k & 63) == 0) {
+            long double j[3], dj;
+            tp_j(&tp_sys, j);
+            dj = tp_sqrtl((j[0] - j0[0]) * (j[0] - j0[0]) + (j[1] - j0[1]) * (j[1] - j0[1]) +
+                          (j[2] - j0[2]) * (j[2] - j0[2])) / jn;
+            if (dj > st->max_dj)
+                st->max_dj = dj;
+        }
+    }
+    st->h_last = tp_h(&tp_sys);
+}
