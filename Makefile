@@ -2,6 +2,8 @@
 #   make            library object and examples, in EDMI_REAL precision, into $(BUILD)/$(EDMI_REAL)/
 #   make run        the paper's stiff neo-Hookean spring (examples/paper_spring.c)
 #   make test       the test suite in four configurations + library checks; last line is the total
+#   make soak       the passivity guard's adversarial scenes, 10^6 steps per case (SOAK_STEPS)
+#   make refs       regenerate tests/ref_track.h, the double reference the float suite tracks
 #   make cross      the library for a Cortex-M4F (float), its size, and its external references
 #   make clean
 # Override on the command line: make CC=clang CFLAGS='-O3' EDMI_REAL=float BUILD=out
@@ -28,7 +30,7 @@ ARM_NM ?= arm-none-eabi-nm
 ARM_SIZE ?= arm-none-eabi-size
 ARM_TARGET := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
 
-.PHONY: all run test cross clean
+.PHONY: all run test soak refs cross clean
 
 # ---- host: library and examples ------------------------------------------------------------
 HOST := $(BUILD)/$(EDMI_REAL)
@@ -91,6 +93,28 @@ test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
 	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)')
+
+# ---- soak: the guard's adversarial scenes for 10^6 steps per case, in both precisions ---------
+# tests/soak.c; the inequality H_n+1 - H_n <= W is checked in long double after every step.
+SOAK_STEPS ?= 1000000
+SOAK_SRC := tests/soak.c tests/passive.c tests/harness.c tests/host_io.c
+$(BUILD)/soak-%/soak: $(SOAK_SRC) tests/passive.h tests/harness.h edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* $(SOAK_SRC) edmi.c -o $@ $(LDLIBS)
+
+soak: $(BUILD)/soak-float/soak $(BUILD)/soak-double/soak
+	bash tests/run_all.sh '$(BUILD)/soak-float/soak $(SOAK_STEPS)' \
+	    '$(BUILD)/soak-double/soak $(SOAK_STEPS)'
+
+# ---- refs: the double-precision reference of tests/test_track.c (tests/ref_track.h) ----------
+# Regenerate after a change to the library that moves double results; the double test suite
+# fails while the checked-in table is stale.
+$(BUILD)/gen_ref: tests/gen_ref.c edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) -O2 -DEDMI_REAL=double tests/gen_ref.c edmi.c -o $@ $(LDLIBS)
+
+refs: $(BUILD)/gen_ref
+	$(BUILD)/gen_ref > tests/ref_track.h
 
 # ---- cross: Cortex-M4F, single precision, no double maths ------------------------------------
 $(BUILD)/cross/edmi.o: edmi.c edmi.h | $(BUILD)/cross

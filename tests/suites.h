@@ -12,5 +12,6 @@ void suite_hard(void);       /* test_hard.c: circular orbit, LG switch, near-col
 void suite_solver(void);     /* test_solver.c: banded solve vs body numbering, bit-reproducible */
 void suite_effects(void);    /* test_effects.c: field, dampers, ports, energy balance, scenes */
 void suite_guard(void);      /* test_guard.c: passivity on stored states, d = 0, moving anchors */
+void suite_track(void);      /* test_track.c: float tracks the double reference; schemes differ */
 
 #endif

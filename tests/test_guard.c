@@ -6,6 +6,7 @@
  * error bounds are not consulted. A step violates passivity when
  *     H(q_n+1, p_n+1) - H(q_n, p_n) > work_ext + work_anchor + err,
  * err being the check's own rounding bound (passive.c). */
+#include <float.h>
 #include <string.h>
 #include "harness.h"
 #include "suites.h"
@@ -266,7 +267,10 @@ void suite_guard(void)
 {
     th_suite("guard: passivity of the stored state, zero-rest-length links, moving anchors");
     gd_scenes();
-    gd_guard_off_rises(EDMI_LG);
+    /* a double state's noise is resolved only where long double is wider than double (x86:
+     * 64 bits; the Arm targets: long double is double, and the check resolves float only) */
+    if (!edmi_is_double_precision() || LDBL_MANT_DIG > DBL_MANT_DIG)
+        gd_guard_off_rises(EDMI_LG);
     if (!edmi_is_double_precision())
         gd_guard_off_rises(EDMI_PM);
     gd_linear(EDMI_MP);

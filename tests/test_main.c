@@ -16,5 +16,6 @@ int main(void)
     suite_solver();
     suite_effects();
     suite_guard();
+    suite_track();
     return th_finish() == 0 ? 0 : 1;
 }
