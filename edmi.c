@@ -1171,15 +1171,6 @@ typedef struct edmi__dw {
 #define EDMI__REAL_MIN FLT_MIN
 #endif
 
-/* The fused multiply-add of the port, if the hardware has one (EDMI_FMA in edmi.h). */
-#ifndef EDMI_FMA
-#if EDMI_PREC_(EDMI_REAL) == EDMI_FLOAT_ && defined(__FP_FAST_FMAF)
-#define EDMI_FMA(a, b, c) __builtin_fmaf(a, b, c)
-#elif EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_ && defined(__FP_FAST_FMA)
-#define EDMI_FMA(a, b, c) __builtin_fma(a, b, c)
-#endif
-#endif
-
 static edmi__dw edmi__dw_of(edmi_real x)
 {
     edmi__dw r;

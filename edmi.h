@@ -63,6 +63,17 @@
 #endif
 #endif
 
+/** Port hook (optional): EDMI_FMA(a, b, c) = a * b + c rounded once, a fused multiply-add.
+ *  The passivity guard uses it for exact products. Default: the compiler builtin where the
+ *  target has the instruction (GCC and Clang announce it with __FP_FAST_FMAF and
+ *  __FP_FAST_FMA: VFMA.F32 on a Cortex-M4F, VFMA.F64 on an M7); elsewhere (Cortex-M0+,
+ *  rv32imac, x86-64 without -mfma) none, and the guard splits its operands instead
+ *  (Veltkamp and Dekker: 17 operations per product, no library call). Define EDMI_NO_FMA to
+ *  force the split. Both give exact products, so results are identical. Costs nothing else. */
+#if !defined(EDMI_FMA) && !defined(EDMI_NO_FMA)
+#define EDMI_FMA_DEFAULT_ 1
+#endif
+
 #include <float.h>
 
 #ifdef __cplusplus
@@ -96,6 +107,11 @@ typedef EDMI_REAL edmi_real;
 #define EDMI_SQRT_BUILTIN_(x) __builtin_sqrt(x)
 #else
 #error "edmi: EDMI_REAL must be float or double"
+#endif
+#if defined(EDMI_FMA_DEFAULT_) && EDMI_PREC_(EDMI_REAL) == EDMI_FLOAT_ && defined(__FP_FAST_FMAF)
+#define EDMI_FMA(a, b, c) __builtin_fmaf(a, b, c)
+#elif defined(EDMI_FMA_DEFAULT_) && EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_ && defined(__FP_FAST_FMA)
+#define EDMI_FMA(a, b, c) __builtin_fma(a, b, c)
 #endif
 
 /** Status of every call that can fail. A call that returns anything but EDMI_OK has left the
@@ -348,7 +364,8 @@ typedef enum edmi_stop {
 typedef struct edmi_step_result {
     int iterations;      /*!< Newton corrections taken */
     edmi_stop stop;      /*!< why Newton stopped (meaningful when the step succeeded) */
-    edmi_real residual;  /*!< final scaled residual (dimensionless, see README) */
+    edmi_real residual;  /*!< final scaled residual of Newton's iterate (dimensionless, see
+                              README; before the guard's rounding of the stored state) */
     edmi_real residual0; /*!< scaled residual of the predictor */
     edmi_real correction; /*!< last Newton correction in the same scaled norm */
     int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
@@ -469,9 +486,14 @@ edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
  *  The system changes only when EDMI_OK is returned.
  *  \param[in,out] sys the system; \param[out] work scratch space; \param[in] dt > 0
  *  \param[out] res what the step did, or NULL
+ *  With the guard on (params.guard), the stored state satisfies
+ *  H(q_n+1, p_n+1) - H(q_n, p_n) <= res->work_ext + res->work_anchor exactly. With
+ *  params.fallback, a failure of the solve (SINGULAR, NO_CONVERGENCE, DIVERGED, PASSIVITY)
+ *  stores the fallback state instead and returns EDMI_OK (res->stop == EDMI_STOP_FALLBACK).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
  *          EDMI_ERR_CAPACITY (corrupted counts), EDMI_ERR_INDEX, EDMI_ERR_PARAM,
- *          EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR, EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED */
+ *          EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR, EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED,
+ *          EDMI_ERR_PASSIVITY */
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res);
 

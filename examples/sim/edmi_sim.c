@@ -33,6 +33,7 @@ static const char *const usage_text =
     "  --dt X                    time step (default: the scene's `set dt`)\n"
     "  --t-end X                 end time; runs round(t_end/dt) steps (default: `set t_end`)\n"
     "  --tol-q X, --tol-r X, --tol-a X, --l-max N   Newton and LG quotient settings\n"
+    "                            (--tol-r 0 --tol-a 0: no early stop, Newton to its floor)\n"
     "  --lg-switch closed|janz|gonzalez|ge|pm|pt\n"
     "                            LG: closed-form divided difference, or the quotient with\n"
     "                            that alternate force below tol_Q\n"
@@ -174,10 +175,10 @@ static void parse_args(int argc, char **argv, sim_opts *o)
             o->tol_q = opt_positive(name, v);
             o->has_tol_q = 1;
         } else if (strcmp(name, "--tol-r") == 0) {
-            o->tol_r = opt_positive(name, v);
+            o->tol_r = strcmp(v, "0") == 0 ? 0.0 : opt_positive(name, v); /* 0: off */
             o->has_tol_r = 1;
         } else if (strcmp(name, "--tol-a") == 0) {
-            o->tol_a = opt_positive(name, v);
+            o->tol_a = strcmp(v, "0") == 0 ? 0.0 : opt_positive(name, v);
             o->has_tol_a = 1;
         } else if (strcmp(name, "--l-max") == 0) {
             o->l_max = opt_count(name, v);
