@@ -1493,14 +1493,13 @@ static int edmi__excess(const edmi__balance *bal, edmi_real *e, edmi_real *margi
 /* One stored momentum component the energy-aware rounding may move: body a, axis i, value
  * p, grid spacing u (one unit in the last place) and 2m. */
 typedef struct edmi__comp {
-    int a, i, low;
+    int a, i;
     edmi_real p, u, m2;
     edmi_real jq[3]; /* J's change per unit of momentum: q_a x e_i */
 } edmi__comp;
 
-/* Unit in the last place of a normal x (0 for zero, subnormal, inf, NaN); *low: the last
- * bit of x's significand, a sign-free coin for the search order below. */
-static edmi_real edmi__ulp(edmi_real x, int *low)
+/* Unit in the last place of a normal x (0 for zero, subnormal, inf, NaN). */
+static edmi_real edmi__ulp(edmi_real x)
 {
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
     union {
@@ -1509,7 +1508,6 @@ static edmi_real edmi__ulp(edmi_real x, int *low)
     } v;
     unsigned long long e;
     v.r = x;
-    *low = (int)(v.u & 1ULL);
     e = (v.u >> 52) & 0x7ffULL;
     if (e == 0 || e == 0x7ffULL)
         return EDMI__ZERO;
@@ -1523,7 +1521,6 @@ static edmi_real edmi__ulp(edmi_real x, int *low)
     unsigned long e;
     v.u = 0;
     v.r = x;
-    *low = (int)(v.u & 1UL);
     e = (v.u >> 23) & 0xffUL;
     if (e == 0 || e == 0xffUL)
         return EDMI__ZERO;
@@ -1567,7 +1564,7 @@ static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, 
             x.a = a;
             x.i = i;
             x.p = p1[a][i];
-            x.u = edmi__ulp(x.p, &x.low);
+            x.u = edmi__ulp(x.p);
             x.m2 = EDMI_R(2.0) * sys->body[a].m;
             x.jq[i] = EDMI__ZERO; /* q x e_i */
             x.jq[(i + 1) % 3] = work->q1[a][(i + 2) % 3];
@@ -1927,13 +1924,13 @@ static void edmi__grad_q(const edmi_system *sys, const edmi_workspace *work, int
 static void edmi__pick_qmoves(const edmi_system *sys, const edmi_workspace *work, int a,
                               edmi__qmoves *qm)
 {
-    int i, low;
+    int i;
     qm->a = a;
     qm->n = 27;
     edmi__grad_q(sys, work, a, qm->g);
     edmi__copy3(work->p1[a], qm->jp);
     for (i = 0; i < 3; i++) {
-        qm->u[i] = edmi__ulp(work->q1[a][i], &low);
+        qm->u[i] = edmi__ulp(work->q1[a][i]);
         if (edmi__abs(work->q1[a][i]) < EDMI_R(16384.0) * qm->u[i] || !edmi__finite(qm->g[i]))
             qm->u[i] = EDMI__ZERO;
     }
