@@ -770,22 +770,34 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
  * it; all-pairs scenes are dense). Exact solves keep Newton quadratic.
  * ======================================================================================== */
 
-/* Solve A x = b (3x3, row-major) by the adjugate; singular when |det| is below 8 eps of
- * Hadamard's bound |det| <= prod of row norms (scale-free, catches NaN). */
+/* Solve A x = b (3x3, row-major) by the adjugate. Singular when the condition number, as
+ * estimated by max|A| max|adj A| / |det A| (>= ||A|| ||A^-1|| / 9 in the max norm), exceeds
+ * 1/(16 eps); catches NaN. (Hadamard's bound |det| <= prod of row norms, used before, rejects
+ * well-conditioned matrices dominated by one direction: a stiff link at omega dt = 100 gives
+ * A ~ I + 1e4 u u^T, condition ~1e4, whose det falls below 8 eps of the bound in float.) */
 static edmi_status edmi__solve3(const edmi_real m[9], const edmi_real b[3], edmi_real x[3])
 {
-    edmi_real c0 = m[4] * m[8] - m[5] * m[7];
-    edmi_real c1 = m[5] * m[6] - m[3] * m[8];
-    edmi_real c2 = m[3] * m[7] - m[4] * m[6];
-    edmi_real det = m[0] * c0 + m[1] * c1 + m[2] * c2;
-    edmi_real had = edmi__norm(m) * edmi__norm(m + 3) * edmi__norm(m + 6);
-    edmi_real id;
-    if (!(edmi__abs(det) > EDMI_R(8.0) * EDMI_EPS * had))
+    edmi_real adj[9], det, id, amax = EDMI__ZERO, cmax = EDMI__ZERO;
+    int i;
+    adj[0] = m[4] * m[8] - m[5] * m[7];
+    adj[3] = m[5] * m[6] - m[3] * m[8];
+    adj[6] = m[3] * m[7] - m[4] * m[6];
+    adj[1] = m[2] * m[7] - m[1] * m[8];
+    adj[4] = m[0] * m[8] - m[2] * m[6];
+    adj[7] = m[1] * m[6] - m[0] * m[7];
+    adj[2] = m[1] * m[5] - m[2] * m[4];
+    adj[5] = m[2] * m[3] - m[0] * m[5];
+    adj[8] = m[0] * m[4] - m[1] * m[3];
+    det = m[0] * adj[0] + m[1] * adj[3] + m[2] * adj[6];
+    for (i = 0; i < 9; i++) {
+        amax = edmi__max(amax, edmi__abs(m[i]));
+        cmax = edmi__max(cmax, edmi__abs(adj[i]));
+    }
+    if (!(edmi__abs(det) > EDMI_R(16.0) * EDMI_EPS * amax * cmax))
         return EDMI_ERR_SINGULAR;
     id = EDMI__ONE / det;
-    x[0] = (c0 * b[0] + (m[2] * m[7] - m[1] * m[8]) * b[1] + (m[1] * m[5] - m[2] * m[4]) * b[2]) * id;
-    x[1] = (c1 * b[0] + (m[0] * m[8] - m[2] * m[6]) * b[1] + (m[2] * m[3] - m[0] * m[5]) * b[2]) * id;
-    x[2] = (c2 * b[0] + (m[1] * m[6] - m[0] * m[7]) * b[1] + (m[0] * m[4] - m[1] * m[3]) * b[2]) * id;
+    for (i = 0; i < 3; i++)
+        x[i] = (adj[3 * i] * b[0] + adj[3 * i + 1] * b[1] + adj[3 * i + 2] * b[2]) * id;
     return EDMI_OK;
 }
 
@@ -2269,41 +2281,70 @@ static void edmi__clear_result(edmi_step_result *res)
     res->guard_action = 0;
 }
 
-/* The LG quotient's cancellation noise in the scaled residual: the largest
- * dt |r_m| (2 eps (|V(d_n+1)| + |V(d_n)|) / |d_n+1 - d_n|) / (d_n + d_n+1) of a link over
- * the momentum scales of its ends (0 for every other scheme and form). */
-static edmi_real edmi__quotient_noise(const edmi_system *sys, const edmi_workspace *work)
+/* The round-off noise of the scaled residual at the current iterate: eps times the
+ * magnitudes summed into each body's R_q = q1 - q0 - h (p0 + p1) and R_p = p1 - p0 + sum of
+ * impulses, over the body's scales. A link's impulse f = dt beta r_m carries the rounding of
+ * its potential's terms, which near a rest length or an equilibrium (LJ's two parts, GE's
+ * convex and concave halves) cancel to far less than themselves: bounded here by
+ * |f| + |r_m| times the largest entry of the link's tangent block (d f / d r_n+1, ~dt V''),
+ * plus the LG quotient's own cancellation (edmi_link_ws.noise). Computed only when Newton's
+ * residual stopped halving; it reuses work->rhs, which the next correction overwrites. */
+static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
 {
-    edmi_real n = EDMI__ZERO;
-    int j;
-    if (sys->params.scheme != EDMI_LG || sys->params.lg_form != EDMI_LG_QUOTIENT)
-        return EDMI__ZERO;
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    edmi_real *acc = work->rhs, fl = EDMI__ZERO; /* acc[3a]: |R_q| terms, acc[3a+1]: |R_p| */
+    int a, j, i;
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        edmi_real np = edmi__norm(bd->p) + edmi__norm(work->p1[a]);
+        acc[3 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np);
+        acc[3 * a + 1] = EDMI_EPS * np;
+        if (sys->has_field)
+            acc[3 * a + 1] += EDMI_EPS * dt * bd->m * edmi__norm(sys->g);
+    }
+    for (i = 0; i < sys->n_forced; i++)
+        acc[3 * sys->forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->forced[i]]);
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
-        n = edmi__max(n, work->lw[j].noise / work->sp[lk->a]);
+        const edmi_link_ws *w = &work->lw[j];
+        edmi_real r1[3], rm[3], kmax = EDMI__ZERO, x, nrm;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        for (i = 0; i < 3; i++)
+            rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+        for (i = 0; i < 9; i++)
+            kmax = edmi__max(kmax, edmi__abs(w->k[i]));
+        nrm = edmi__norm(rm);
+        x = EDMI_R(4.0) * EDMI_EPS * (dt * edmi__abs(w->beta) * nrm + EDMI_R(3.0) * kmax * nrm) +
+            w->noise;
+        acc[3 * lk->a + 1] += x;
         if (lk->b != EDMI_ANCHOR)
-            n = edmi__max(n, work->lw[j].noise / work->sp[lk->b]);
+            acc[3 * lk->b + 1] += x;
     }
-    return n;
+    for (a = 0; a < sys->n_bodies; a++)
+        fl = edmi__max(fl, edmi__max(acc[3 * a] / work->sq[a], acc[3 * a + 1] / work->sp[a]));
+    return fl;
 }
 
-/* A residual that stopped halving within this factor of the LG quotient's noise is there. */
+/* A residual that stopped halving within this factor of its round-off noise is there. */
 #define EDMI__NOISE_FACTOR EDMI_R(8.0)
 
 /* The multi-corrector from the evaluated predictor. Newton stops (edmi_stop):
  *  - at the optional tol_r / tol_a;
  *  - CONVERGED when the next correction, predicted from the last two in Newton's quadratic
  *    regime (c_l+1 = C c_l^2 with C = c_l / c_l-1^2, so c_l+1 = c_l^3 / c_l-1^2, taken only
- *    when the last two corrections each contracted by 4 or more and the last one did not
- *    raise the residual: far from the root of a stiff step, omega dt = 100, a small correction
- *    can follow a large one and still land on a larger residual), would be below eps in the scaled norm: it could not move the iterate
+ *    when the last two corrections each contracted by 4 or more and the residual is in its
+ *    quadratic tail too, not risen and below sqrt(eps) r_0: at omega dt = 100 the Newton
+ *    matrix is ~1e4 I, and a small correction can follow a large one far from the root),
+ *    would be below eps in the scaled norm: it could not move the iterate
  *    by a unit roundoff. Or when a full correction (or the residual) is exactly 0. On the
  *    paper's spring: 2 corrections in float, 2-3 in double;
  *  - STALLED when the residual's noise is above eps: it stopped halving after the quadratic
- *    regime (two residuals below sqrt(eps) r_0), or within 8x the LG quotient's cancellation
- *    noise (measured in float on a circular orbit: |d1 - d0| ~ 1e-6, noise ~1e-2, where
- *    Newton otherwise cycles between two iterates for ever). Unlike a floor estimate that
- *    accepts any residual below it, this stops only once the residual has stopped falling. */
+ *    regime (two residuals below sqrt(eps) r_0), or within 8x its estimated round-off noise
+ *    (edmi__noise_floor; measured: the LG quotient in float on a circular orbit, |d1 - d0|
+ *    ~ 1e-6, noise ~1e-2, where Newton otherwise cycles between two iterates for ever; GE in
+ *    float on 16 LJ bodies near equilibrium, whose convex and concave halves cancel, noise
+ *    ~1e-4 r_0). Unlike a floor estimate that accepts any residual below it, this stops only
+ *    once the residual has stopped falling. */
 static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                 edmi_step_result *res)
 {
@@ -2335,7 +2376,8 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
             return EDMI_OK;
         }
         if (moved == EDMI__ONE && (c == EDMI__ZERO || r == EDMI__ZERO ||
-                                   (l >= 2 && r <= rprev && c <= EDMI_R(0.25) * cprev &&
+                                   (l >= 2 && r <= rprev && r <= EDMI__SQRT_EPS * res->residual0 &&
+                                    c <= EDMI_R(0.25) * cprev &&
                                     cprev <= EDMI_R(0.25) * cprev2 &&
                                     c * c * c <= EDMI_EPS * cprev * cprev))) {
             res->stop = EDMI_STOP_CONVERGED;
@@ -2345,7 +2387,7 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         cprev = res->correction;
         if (l >= 2 && r > EDMI__HALF * rprev &&
             ((rprev <= EDMI__SQRT_EPS * res->residual0 && r <= EDMI__SQRT_EPS * res->residual0) ||
-             r <= EDMI__NOISE_FACTOR * edmi__quotient_noise(sys, work))) {
+             r <= EDMI__NOISE_FACTOR * edmi__noise_floor(sys, work, dt))) {
             res->stop = EDMI_STOP_STALLED;
             return EDMI_OK;
         }

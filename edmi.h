@@ -339,13 +339,14 @@ typedef struct edmi_workspace {
 typedef enum edmi_stop {
     EDMI_STOP_CONVERGED = 0, /*!< at the round-off floor: the next Newton correction,
                                   predicted from the last two in the quadratic regime
-                                  (c_l^3 / c_l-1^2, with c_l <= c_l-1 / 4), is below eps in
-                                  the scaled norm, so it could not move the iterate by a unit
+                                  (c_l^3 / c_l-1^2, with c_l <= c_l-1 / 4 and a residual
+                                  below sqrt(eps) x residual0), is below eps in the scaled norm, so it could not move the iterate by a unit
                                   roundoff; or a correction or the residual is exactly 0 */
     EDMI_STOP_STALLED,   /*!< round-off noise above eps: the residual stopped halving after
                               Newton's quadratic regime (this and the previous residual both
-                              <= sqrt(eps) x residual0), or within 8x the LG quotient's
-                              cancellation noise eps (|V(d1)| + |V(d0)|) / |d1 - d0| */
+                              <= sqrt(eps) x residual0), or within 8x its round-off noise as
+                              estimated from the magnitudes summed into it (the potentials'
+                              cancelling terms, the LG quotient's eps |V| / |d1 - d0|) */
     EDMI_STOP_TOL_R,     /*!< scaled residual <= tol_r * initial scaled residual (tol_r > 0) */
     EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a (tol_a > 0) */
     EDMI_STOP_FALLBACK   /*!< params.fallback: Newton failed and the fallback state was stored */
