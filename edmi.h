@@ -33,14 +33,15 @@
 #endif
 
 /** Bodies per system. Costs 10 reals + 1 int per body in edmi_system (state and force port)
- *  and 9*EDMI_MAX_BODIES^2 + 22*EDMI_MAX_BODIES reals in edmi_workspace: the Newton matrix
+ *  and 9*EDMI_MAX_BODIES^2 + 20*EDMI_MAX_BODIES reals in edmi_workspace: the Newton matrix
  *  is stored dense, but only its band is touched (see README, "solver"). */
 #ifndef EDMI_MAX_BODIES
 #define EDMI_MAX_BODIES 16
 #endif
 
 /** Links (pair or anchor) per system. Costs one edmi_link (2 ints, 5 reals, an enum and 3
- *  pointers, plus padding) in edmi_system and 20 reals and an int in edmi_workspace per link. */
+ *  pointers, plus padding), 6 reals and an int (moving anchor, link force) in edmi_system
+ *  and 26 reals and an int in edmi_workspace per link. */
 #ifndef EDMI_MAX_LINKS
 #define EDMI_MAX_LINKS 64
 #endif

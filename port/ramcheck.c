@@ -13,7 +13,8 @@
  * Assumptions: int is 4 bytes; edmi_real and pointers are aligned to their size (AAPCS Arm,
  * RISC-V ilp32/lp64, x86-64, AArch64; not i386, where double is 4-aligned in structs); an
  * enum is 4 bytes except on arm-none-eabi, whose GCC defaults to -fshort-enums (E = 1).
- *   edmi_params    = up(up(3E, R) + 3R + 2*4, R)                 3 enums, 3 reals, 2 ints
+ *   edmi_params    = up(up(up(3E, R) + 3R + 2*4 + E, 4) + 4, R)   3 enums, 3 reals, 2 ints,
+ *                                                                guard (enum), fallback (int)
  *   edmi_potential = up(up(up(E, R) + 2R, P) + 3P, RP)           kind, a, b, fn, dd, ctx
  *   edmi_link      = up(2*4 + 3R, RP) + edmi_potential           a, b, anchor[3], pot
  *   edmi_body      = 7R                                          m, q[3], p[3]
@@ -23,12 +24,13 @@
  *     s = up(s, RP) + L*edmi_link + 4                            link[L], has_field
  *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
  *     s = up(s, R) + D*edmi_damper + 4 + 4N                      damper[D], n_forced, forced[N]
- *     s = up(s, R) + 3R*N                                        force[N][3]
+ *     s = up(s, R) + 3R*N + 4 + 4L                               force[N][3], n_moving, moving[L]
+ *     s = up(s, R) + 6R*L                                        anchor_next[L][3], link_force[L][3]
  *     sizeof(edmi_system) = up(s, RP)
- *   edmi_link_ws   = 20R                                         r0[3], 8 scalars, k[9]
- *   edmi_workspace = up((9N^2 + 22N) R + L*20R + D*9R + 4L + 4, R)  reals, order[L], n_pair
- * The 22N reals are q1, p1, rq, rp, dp (3 each), sq, sp, nq, np (1 each) and rhs (3); 9N^2
- * is the Newton matrix; 9 reals per damper its tangent block. */
+ *   edmi_link_ws   = 26R                                 r0[3], 8 scalars, x1[3], f[3], k[9]
+ *   edmi_workspace = up((9N^2 + 20N) R + L*26R + D*9R + 4L + 4, R)  reals, order[L], n_pair
+ * The 20N reals are q1, p1, rq, rp, dp, rhs (3 each) and sq, sp (1 each); 9N^2 is the
+ * Newton matrix; 9 reals per damper its tangent block. */
 #include "../edmi.h"
 
 #define TGT_UP(x, a) ((((x) + (a) - 1u) / (a)) * (a))
@@ -41,7 +43,8 @@
 #define TGT_D ((unsigned long)EDMI_MAX_DAMPERS)
 #define TGT_RP TGT_MAX(TGT_R, TGT_P)
 
-#define TGT_PARAMS TGT_UP(TGT_UP(3u * TGT_E, TGT_R) + 3u * TGT_R + 8u, TGT_R)
+#define TGT_PARAMS \
+    TGT_UP(TGT_UP(TGT_UP(3u * TGT_E, TGT_R) + 3u * TGT_R + 8u + TGT_E, 4u) + 4u, TGT_R)
 #define TGT_POT TGT_UP(TGT_UP(TGT_UP(TGT_E, TGT_R) + 2u * TGT_R, TGT_P) + 3u * TGT_P, TGT_RP)
 #define TGT_LINK (TGT_UP(8u + 3u * TGT_R, TGT_RP) + TGT_POT)
 #define TGT_DAMPER (TGT_UP(4u, TGT_R) + TGT_R)
@@ -49,27 +52,34 @@
 #define TGT_S2 (TGT_UP(TGT_S1, TGT_RP) + TGT_L * TGT_LINK + 4u)
 #define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
 #define TGT_S4 (TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
-#define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N)
-#define TGT_SYSTEM TGT_UP(TGT_S5, TGT_RP)
-#define TGT_WORKSPACE \
-    TGT_UP((9u * TGT_N * TGT_N + 22u * TGT_N + 20u * TGT_L + 9u * TGT_D) * TGT_R + 4u * TGT_L + 4u, TGT_R)
+#define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
+#define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L)
+#define TGT_SYSTEM TGT_UP(TGT_S6, TGT_RP)
+#define TGT_LINK_WS (26u * TGT_R)
+#define TGT_WORKSPACE                                                                         \
+    TGT_UP((9u * TGT_N * TGT_N + 20u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +     \
+               4u * TGT_L + 4u,                                                               \
+           TGT_R)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
- * K + 9R N^2 + b N + l L + d D + pad, pad = 4 bytes (alignment around the int array
- * forced[N] before force[N][3]) when R = 8 and N is even, or R = 4, P = 8 and N is odd:
- *   float:  K = 68 with 1-byte enums (arm-none-eabi), 76 with 4-byte ones; b = 132, d = 44;
- *           l = 128 with 4-byte pointers, 148 with 8-byte ones
- *   double: K = 112 with 1-byte enums, 120 with 4-byte ones; b = 260, d = 88;
- *           l = 236 with 4-byte pointers, 244 with 8-byte ones; and 4 more bytes of pad
- *           when L is even (the workspace's int tail order[L], n_pair rounded up to 8) */
-#define TGT_CLOSED_K ((TGT_R == 4u ? 68u : 112u) + (TGT_E == 4u ? 8u : 0u))
-#define TGT_CLOSED_B (TGT_R == 4u ? 132u : 260u)
-#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 128u : 236u) : (TGT_R == 4u ? 148u : 244u))
+ * K + 9R N^2 + b N + l L + d D + pad:
+ *   float:  K = 80 with 1-byte enums (arm-none-eabi), 88 with 4-byte ones; b = 124, d = 44;
+ *           l = 180 with 4-byte pointers, 200 with 8-byte ones; pad = 0 with 4-byte
+ *           pointers, else 4 when N is odd (alignment of link[] after body[N]) + 4 when L is
+ *           even (the system's tail, rounded up to the pointers' 8)
+ *   double: K = 124 with 1-byte enums, 132 with 4-byte ones; b = 244, d = 88;
+ *           l = 336 with 4-byte pointers, 344 with 8-byte ones; pad = 4 when N is even (the
+ *           int array forced[N] before force[N][3]) + 8 when L is even (the int arrays
+ *           moving[L] before anchor_next[L][3], and the workspace's order[L], n_pair rounded
+ *           up to 8) */
+#define TGT_CLOSED_K ((TGT_R == 4u ? 80u : 124u) + (TGT_E == 4u ? 8u : 0u))
+#define TGT_CLOSED_B (TGT_R == 4u ? 124u : 244u)
+#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 180u : 336u) : (TGT_R == 4u ? 200u : 344u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_PAD                                                                      \
-    ((TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) \
-                  : 0u) +                                                                   \
-     (TGT_R == 8u && TGT_L % 2u == 0u ? 4u : 0u))
+    (TGT_R == 8u   ? (TGT_N % 2u == 0u ? 4u : 0u) + (TGT_L % 2u == 0u ? 8u : 0u)             \
+     : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) + (TGT_L % 2u == 0u ? 4u : 0u)             \
+                   : 0u)
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + 9u * TGT_R * TGT_N * TGT_N + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L + \
      TGT_CLOSED_D * TGT_D + TGT_CLOSED_PAD)
@@ -115,7 +125,7 @@ int main(void)
     check("sizeof(edmi_link)", (unsigned long)sizeof(edmi_link), TGT_LINK);
     check("sizeof(edmi_body)", (unsigned long)sizeof(edmi_body), 7u * TGT_R);
     check("sizeof(edmi_damper)", (unsigned long)sizeof(edmi_damper), TGT_DAMPER);
-    check("sizeof(edmi_link_ws)", (unsigned long)sizeof(edmi_link_ws), 20u * TGT_R);
+    check("sizeof(edmi_link_ws)", (unsigned long)sizeof(edmi_link_ws), TGT_LINK_WS);
     check("sizeof(edmi_system)", (unsigned long)sizeof(edmi_system), TGT_SYSTEM);
     check("sizeof(edmi_workspace)", (unsigned long)sizeof(edmi_workspace), TGT_WORKSPACE);
     check("system + workspace (README closed form)", TGT_TOTAL, TGT_CLOSED);

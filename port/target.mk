@@ -8,8 +8,10 @@
 #                       undefined, the size table per target and the size per capacity setting
 #   make test-target    the unit test suite on QEMU mps2-an386 (Cortex-M4F, EDMI_REAL=float)
 #                       and mps2-an500 (Cortex-M7, double); last line "N passed, N failed"
-#   make bench-target   instructions and Newton iterations per step, stack high-water mark of
-#                       edmi_step, on QEMU with -icount shift=0 (port/bench_target.c)
+#   make bench-target   instructions per step (mean and worst), Newton iterations per step,
+#                       stack high-water mark of edmi_step, the pieces and bound of a step's
+#                       worst case and forced fallback steps, on QEMU with -icount shift=0
+#                       (port/bench_target.c); for the M4F also at a one-body capacity
 #   make check-ram      the RAM formula of README.md ("Sizing") against sizeof
 #   make check-port     check-ram, plus port/riscv/sqrt.c against the host's libm
 #   make smoke-target   the target runner itself: a pass, a failed check, a fault, a hang and
@@ -205,10 +207,29 @@ test-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/edmi_tests.elf)
 	EDMI_TEST_TIMEOUT=$$(($(TGT_TIMEOUT) + 30)) bash tests/run_all.sh \
 	    $(foreach b,$(TGT_BOARDS),'$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/edmi_tests.elf')
 
+# The benchmark once more on the Cortex-M4F for a one-body capacity (EDMI_MAX_BODIES, _LINKS,
+# _DAMPERS = 1): its bound is that of the smallest build. Same start-up objects.
+TGT_BENCH_CAP := 1-1-1
+TGT_BENCH_CAP_DIR := $(TGT)/an386-cap$(TGT_BENCH_CAP)
+$(TGT_BENCH_CAP_DIR)/edmi.o: edmi.c edmi.h
+	@mkdir -p $(@D)
+	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) -DEDMI_REAL=float \
+	    $(call tgt_capdefs,$(TGT_BENCH_CAP)) -c $< -o $@
+$(TGT_BENCH_CAP_DIR)/app-bench_target.o: port/bench_target.c edmi.h $(TGT_PORT_HDR)
+	@mkdir -p $(@D)
+	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) -DEDMI_REAL=float \
+	    $(call tgt_capdefs,$(TGT_BENCH_CAP)) -c $< -o $@
+$(TGT_BENCH_CAP_DIR)/bench_target.elf: $(TGT_BENCH_CAP_DIR)/edmi.o $(TGT_RT_an386) \
+		$(TGT_BENCH_CAP_DIR)/app-bench_target.o $(TGT_LD)
+	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $(filter %.o,$^) -lm -lc -lgcc -o $@
+
 # -icount shift=0: one instruction = 1 ns of virtual time, which SysTick counts.
-bench-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/bench_target.elf)
+bench-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/bench_target.elf) \
+		$(TGT_BENCH_CAP_DIR)/bench_target.elf
 	$(foreach b,$(TGT_BOARDS),$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/bench_target.elf \
 	    -icount shift=0 &&) true
+	$(TGT_RUN) $(TGT_MACHINE_an386) $(TGT_BENCH_CAP_DIR)/bench_target.elf -icount shift=0
 
 # The runner must report a clean run as passed and a failed check, a fault, a hang and a stack
 # overflow as failed, with the exit statuses 0, 1, 3, 124 and 4.
