@@ -64,11 +64,12 @@
 #include "edmi.h"
 #include "haptic_hand.h"
 
-#define HP_M EDMI_R(0.1)    /* tool mass [kg] */
-#define HP_K EDMI_R(3000.0) /* coupling stiffness [N/m] */
-#define HP_B EDMI_R(0.5)    /* coupling damping [N s/m] */
-#define HP_DT EDMI_R(1e-3)  /* tick [s] */
-#define HP_TICKS 6000L
+/* The model, from haptic_hand.h (port/haptic_target.c runs the same). */
+#define HP_M HH_MASS
+#define HP_K HH_STIFFNESS
+#define HP_B HH_DAMPING
+#define HP_DT HH_DT
+#define HP_TICKS HH_TICKS
 
 /* The methods: the four of the comparison, then edmi in the two causal loops. */
 typedef enum hp_kind { HP_EDMI = 0, HP_FE, HP_SE, HP_VV, HP_EXTRAP, HP_LATE, HP_N } hp_kind;

@@ -1,6 +1,9 @@
-/* The synthetic hand of the haptic example: one axis, six seconds, deterministic.
+/* The haptic example's coupling and its synthetic hand: one axis, six seconds, deterministic.
  * Shared by examples/haptic.c (host) and port/haptic_target.c (Cortex-M4F), so that both run
- * the same trajectory in edmi_real; no libm (the sine is a series, see hh_sin).
+ * the same model and trajectory in edmi_real; no libm (the sine is a series, see hh_sin).
+ *
+ * The coupling: a virtual tool of HH_MASS on a zero-rest-length spring HH_STIFFNESS with a
+ * damper HH_DAMPING to the hand, one tick of HH_DT, HH_TICKS ticks. The hand:
  *
  *   x(t) = 25 mm (1 - cos 2 pi 0.9 t) - 6 mm (1 - cos 2 pi 3.1 t) + sum_j A_j s_j(t)
  *
@@ -13,6 +16,12 @@
 #define EDMI_HAPTIC_HAND_H
 
 #include "../edmi.h"
+
+#define HH_MASS EDMI_R(0.1)         /* tool mass [kg] */
+#define HH_STIFFNESS EDMI_R(3000.0) /* coupling spring [N/m]: 3 N/mm */
+#define HH_DAMPING EDMI_R(0.5)      /* coupling damper [N s/m] */
+#define HH_DT EDMI_R(1e-3)          /* tick [s]: 1 kHz */
+#define HH_TICKS 6000L              /* ticks: 6 s */
 
 #define HH_PI EDMI_R(3.141592653589793)
 #define HH_TWO_PI EDMI_R(6.283185307179586)
