@@ -612,7 +612,13 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
 /* Linear viscous damper along a link (section "effects" of README): impulse
  *     I = c (dr . r_m) r_m / |r_m|^2,   dr = r_n+1 - r_n,
  * is parallel to r_m, so L, J and C are conserved (lemma many-body-momentum), and it removes
- * exactly dr . I / dt = c (dr . r_m)^2 / (|r_m|^2 dt) >= 0 per step. k = dI / dr_n+1. */
+ * exactly dr . I / dt = c (dr . r_m)^2 / (|r_m|^2 dt) >= 0 per step. Its tangent
+ * k = dI / dr_n+1 follows from d r_m = dr_n+1 / 2, so with s = dr . r_m, ds = (r_m + dr/2)
+ * and d |r_m|^2 = 2 r_m . d r_m = r_m:
+ *     k = c / |r_m|^2 [r_m (r_m + dr/2 - s r_m / |r_m|^2)^T + s/2 I].
+ * On one axis (dr parallel to r_m) this is k = c, the linear damper's. An error in the
+ * |r_m|^2 term grows like c |dr| / |r_m|, and stalls Newton whenever a body crosses its
+ * anchor (tests/test_tangent.c, part 6). */
 static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_real r1[3],
                                 edmi_real imp[3], edmi_real k[9])
 {
@@ -636,7 +642,7 @@ static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_r
     for (i = 0; i < 3; i++) {
         imp[i] = cs * rm[i];
         for (j = 0; j < 3; j++)
-            k[3 * i + j] = c / m2 * rm[i] * (rm[j] + EDMI__HALF * dr[j] - EDMI_R(2.0) * s / m2 * rm[j]) +
+            k[3 * i + j] = c / m2 * rm[i] * (rm[j] + EDMI__HALF * dr[j] - s / m2 * rm[j]) +
                            (i == j ? EDMI__HALF * cs : EDMI__ZERO);
     }
     return EDMI_OK;

@@ -10,6 +10,9 @@
 #   make plots          CSV traces into $(BUILD)/plots, PNGs into examples/figures (gnuplot);
 #                       SIM_FULL=1 adds the ten-body tol_Q study figure
 #   make bench          examples/bench_solver.c with 128 bodies and 8192 links: cost vs links
+#   make haptic         examples/haptic.c, the 1 kHz virtual coupling: its table, the CSV
+#                       $(BUILD)/plots/haptic.csv and examples/figures/haptic_energy.png
+#                       (gnuplot); `make plots` draws the same figure
 #
 # The simulator sources live in examples/sim/ so that the top-level wildcard over
 # examples/*.c (one program per file) does not pick them up.
@@ -30,7 +33,7 @@ SIM_BENCH_CAP := -DEDMI_MAX_BODIES=128 -DEDMI_MAX_LINKS=8192
 # runs the ten-body scene about 30% faster. `make SIM_OPT=` uses CFLAGS alone.
 SIM_OPT ?= -O3
 
-.PHONY: sim test-scene run-examples plots bench
+.PHONY: sim test-scene run-examples plots bench haptic
 
 all: $(SIM_BIN) $(SIM_TEST)
 sim: $(SIM_BIN) $(SIM_TEST)
@@ -54,8 +57,19 @@ test-scene: $(SIM_TEST)
 run-examples: $(SIM_BIN)
 	SIM_FULL=$(SIM_FULL) bash examples/run_examples.sh $(SIM_BIN) $(SIM_JOBS)
 
-plots: $(SIM_BIN)
-	SIM_FULL=$(SIM_FULL) bash examples/plots/make_plots.sh $(SIM_BIN) $(SIM_PLOTS) $(SIM_FIGURES) $(SIM_JOBS)
+plots: $(SIM_BIN) $(HOST)/haptic
+	SIM_FULL=$(SIM_FULL) HAPTIC=$(HOST)/haptic HAPTIC_REAL=$(EDMI_REAL) \
+	    bash examples/plots/make_plots.sh $(SIM_BIN) $(SIM_PLOTS) $(SIM_FIGURES) $(SIM_JOBS)
+
+# The haptic example shares its trajectory with port/haptic_target.c.
+$(HOST)/haptic: examples/haptic_hand.h
+
+haptic: $(HOST)/haptic
+	@mkdir -p $(SIM_PLOTS) $(SIM_FIGURES)
+	$(HOST)/haptic --csv $(SIM_PLOTS)/haptic.csv
+	gnuplot -e "data='$(SIM_PLOTS)'; out='$(SIM_FIGURES)/haptic_energy.png'; prec='$(EDMI_REAL)'" \
+	    examples/plots/haptic.gp
+	@echo "  $(SIM_FIGURES)/haptic_energy.png"
 
 # The benchmark needs large capacities in the library and the program alike.
 $(SIM_BENCH):

@@ -12,6 +12,9 @@
 #                       stack high-water mark of edmi_step, the pieces and bound of a step's
 #                       worst case and forced fallback steps, on QEMU with -icount shift=0
 #                       (port/bench_target.c); for the M4F also at a one-body capacity
+#   make haptic-target  the 1 kHz virtual coupling of examples/haptic.c on the Cortex-M4F
+#                       (float): instructions per tick, mean and worst, guard actions,
+#                       failures, passivity of every tick (port/haptic_target.c)
 #   make check-ram      the RAM formula of README.md ("Sizing") against sizeof
 #   make check-port     check-ram, plus port/riscv/sqrt.c against the host's libm
 #   make smoke-target   the target runner itself: a pass, a failed check, a fault, a hang and
@@ -84,7 +87,8 @@ tgt_capdefs = -DEDMI_MAX_BODIES=$(word 1,$(subst -, ,$(1))) \
               -DEDMI_MAX_LINKS=$(word 2,$(subst -, ,$(1))) \
               -DEDMI_MAX_DAMPERS=$(word 3,$(subst -, ,$(1)))
 
-.PHONY: tgt-cross test-target bench-target check-ram check-sqrt check-port smoke-target
+.PHONY: tgt-cross test-target bench-target haptic-target check-ram check-sqrt check-port \
+        smoke-target
 cross: tgt-cross
 
 # ---- cross: one directory per target-precision pair -----------------------------------------
@@ -194,6 +198,11 @@ $(TGT)/$(1)/bench_target.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app
 		$(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
+$(TGT)/$(1)/app-haptic_target.o: examples/haptic_hand.h
+$(TGT)/$(1)/haptic_target.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-haptic_target.o \
+		$(TGT_LD)
+	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
 $(TGT)/$(1)/smoke-%.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-smoke_%.o \
 		$(TGT)/$(1)/tests-harness.o $(TGT)/$(1)/tests-target_io.o $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
@@ -230,6 +239,10 @@ bench-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/bench_target.elf) \
 	$(foreach b,$(TGT_BOARDS),$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/bench_target.elf \
 	    -icount shift=0 &&) true
 	$(TGT_RUN) $(TGT_MACHINE_an386) $(TGT_BENCH_CAP_DIR)/bench_target.elf -icount shift=0
+
+# The haptic example on the Cortex-M4F in float, as a firmware would run it.
+haptic-target: $(TGT)/an386/haptic_target.elf
+	$(TGT_RUN) $(TGT_MACHINE_an386) $< -icount shift=0
 
 # The runner must report a clean run as passed and a failed check, a fault, a hang and a stack
 # overflow as failed, with the exit statuses 0, 1, 3, 124 and 4.

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # CSV traces of the paper's examples and the PNG figures drawn from them (`make plots`).
 #   usage: make_plots.sh EDMI_SIM DATA_DIR FIGURE_DIR [JOBS]     (from the repository root)
+# With HAPTIC set to the examples/haptic.c binary (and HAPTIC_REAL to its EDMI_REAL), it also
+# runs it (well under a second) and draws haptic_energy.png.
 # A trace is recomputed only when it is missing or older than edmi-sim or its scene, so
 # re-running after editing a .gp script only redraws. Needs gnuplot (Debian: gnuplot-nox).
 set -u
@@ -54,6 +56,14 @@ printf '%s\n' "${todo[@]}" | grep . | xargs -r -P "$jobs" -L 1 bash -c '
     fi
     mv "$data/$id.csv.tmp" "$data/$id.csv"' run || exit 1
 
+if [ -n "${HAPTIC:-}" ]; then
+    if ! "$HAPTIC" --csv "$data/haptic.csv" >"$data/haptic.txt" 2>&1; then
+        cat "$data/haptic.txt" >&2
+        echo "make plots: $HAPTIC failed" >&2
+        exit 1
+    fi
+fi
+
 draw() { # SCRIPT OUTPUT.png [gnuplot assignments]
     local script=$1 png=$2
     shift 2
@@ -83,6 +93,9 @@ draw orbits.gp solar_inner.png "bodies='1 2 3 4'; names='Mercury Venus Earth Mar
 draw orbits.gp solar_outer.png "bodies='5 6 7 8 9'; names='Jupiter Saturn Uranus Neptune Pluto'; range=50;" \
     "name='Outer planets, 5000 years sampled every 50 days'"
 draw chain.gp chain.png
+if [ -n "${HAPTIC:-}" ]; then
+    draw haptic.gp haptic_energy.png "prec='${HAPTIC_REAL:-double}';"
+fi
 if [ "${SIM_FULL:-0}" = 1 ]; then
     draw tolq.gp solar_tolq.png "prefix='solar_'; tscale=365.25; tunit='years'; xt=1000;" \
         "name='Sun and nine planets, dt = 5 days: LG quotient form with its alternates'"
