@@ -10,6 +10,7 @@
 #   make plots          CSV traces into $(BUILD)/plots, PNGs into examples/figures (gnuplot);
 #                       SIM_FULL=1 adds the ten-body tol_Q study figure
 #   make bench          examples/bench_solver.c with 128 bodies and 8192 links: cost vs links
+#   make guard-cost     the passivity guard's host cost, callgrind (examples/guard_cost.c)
 #   make haptic         examples/haptic.c, the 1 kHz virtual coupling: its table, the CSV
 #                       $(BUILD)/plots/haptic.csv and examples/figures/haptic_energy.png
 #                       (gnuplot); `make plots` draws the same figure
@@ -33,7 +34,7 @@ SIM_BENCH_CAP := -DEDMI_MAX_BODIES=128 -DEDMI_MAX_LINKS=8192
 # runs the ten-body scene about 30% faster. `make SIM_OPT=` uses CFLAGS alone.
 SIM_OPT ?= -O3
 
-.PHONY: sim test-scene run-examples plots bench haptic
+.PHONY: sim test-scene run-examples plots bench guard-cost haptic
 
 all: $(SIM_BIN) $(SIM_TEST)
 sim: $(SIM_BIN) $(SIM_TEST)
@@ -81,3 +82,20 @@ $(SIM_BENCH)/bench_solver: examples/bench_solver.c $(SIM_BENCH)/edmi.o edmi.h
 
 bench: $(SIM_BENCH)/bench_solver
 	$(SIM_BENCH)/bench_solver
+
+# The passivity guard's cost on the host: callgrind instructions per step (examples/guard_cost.c).
+GC_DIR := $(BUILD)/guard-cost
+$(GC_DIR)/guard_cost-%: examples/guard_cost.c edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) -O2 -g -fno-ipa-icf -DEDMI_REAL=$* -I. examples/guard_cost.c edmi.c -o $@ $(LDLIBS)
+
+guard-cost: $(GC_DIR)/guard_cost-float $(GC_DIR)/guard_cost-double
+	@for r in float double; do \
+	    valgrind --tool=callgrind --callgrind-out-file=$(GC_DIR)/cg-$$r.out $(GC_DIR)/guard_cost-$$r \
+	        > $(GC_DIR)/out-$$r.txt 2>/dev/null || exit 1; \
+	    callgrind_annotate --inclusive=yes --threshold=100 $(GC_DIR)/cg-$$r.out 2>/dev/null | \
+	    awk -v r=$$r '/guard_cost.c:gc_pm_guard_on /{on=$$1} /guard_cost.c:gc_pm_guard_off /{off=$$1} \
+	        /guard_cost.c:gc_verlet /{vv=$$1} END {gsub(",","",on); gsub(",","",off); gsub(",","",vv); \
+	        printf "%-6s PM guard on %7.0f, guard off %7.0f, velocity Verlet %4.0f instructions/step; on/off %.2f\n", \
+	        r, on/1000, off/1000, vv/1000, on/off}'; \
+	done
