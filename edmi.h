@@ -343,9 +343,10 @@ typedef enum edmi_stop {
                                   (c_l^3 / c_l-1^2, with c_l <= c_l-1 / 4 and a residual
                                   below sqrt(eps) x residual0), is below eps in the scaled norm, so it could not move the iterate by a unit
                                   roundoff; or a correction or the residual is exactly 0 */
-    EDMI_STOP_STALLED,   /*!< round-off noise above eps: the residual stopped halving after
-                              Newton's quadratic regime (this and the previous residual both
-                              <= sqrt(eps) x residual0), or within 8x its round-off noise as
+    EDMI_STOP_STALLED,   /*!< round-off noise above eps: the residual stopped halving (and
+                              did not more than double) after Newton's quadratic regime (this
+                              and the previous residual both <= sqrt(eps) x residual0), or
+                              stopped halving within 8x its round-off noise as
                               estimated from the magnitudes summed into it (the potentials'
                               cancelling terms, the LG quotient's eps |V| / |d1 - d0|) */
     EDMI_STOP_TOL_R,     /*!< scaled residual <= tol_r * initial scaled residual (tol_r > 0) */
