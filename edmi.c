@@ -1605,16 +1605,18 @@ static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, 
 }
 
 /* The offset of the coarsest component c, within k3 units, bringing base + dk closest to
- * goal without exceeding hi; returns 0 if none within range. Beyond the range the offset is
- * clamped to its end: the candidate is then far from goal but may still be below hi, which
- * is all the certificate needs (at a turning point of a stiff link the rounding of a position
- * can exceed the whole kinetic energy, and only a position move can take it back). */
-static int edmi__solve_coarse(const edmi__comp *c, int k3, edmi_real base, edmi_real goal,
-                              edmi_real hi, int *k, edmi_real *got)
+ * goal without exceeding hi; returns 0 if none within range. With `clamp` (the wide search,
+ * the last resort) an offset beyond the range is clamped to its end: the candidate is then
+ * far from goal but may still be below hi, which is all the certificate needs (at a turning
+ * point of a stiff link the rounding of a position can exceed the whole kinetic energy, and
+ * only a position move can take it back). */
+static int edmi__solve_coarse(const edmi__comp *c, int k3, int clamp, edmi_real base,
+                              edmi_real goal, edmi_real hi, int *k, edmi_real *got)
 {
     edmi_real slope = EDMI_R(2.0) * c->p * c->u / c->m2, x = (goal - base) / slope, v;
     int kk, dir = slope > EDMI__ZERO ? 1 : -1, step;
-    if (!(x - x == EDMI__ZERO))
+    if (!(x - x == EDMI__ZERO) ||
+        (!clamp && !(x > (edmi_real)(-k3 - 1) && x < (edmi_real)(k3 + 1))))
         return 0;
     kk = x >= (edmi_real)k3 ? k3
          : x <= (edmi_real)-k3 ? -k3
@@ -1677,7 +1679,8 @@ static edmi_real edmi__frac(edmi_real x)
 }
 
 /* Energy-aware rounding: position variant qv and momentum offsets k whose change of H - work
- * is closest to goal (any within tol count as equal) and <= hi, and among those the one
+ * is closest to goal (any within tol count as equal) and <= hi (the coarsest component within
+ * |k3| units, clamped there when k3 < 0: edmi__solve_coarse), and among those the one
  * changing the momenta least: |dJ|^2 (J about the origin) plus, without anchor links,
  * |dL|^2 l2 (l2 a squared length, so both are angular momenta). Without that second
  * criterion the choice is blind to the directions the energy does not see, and J drifts
@@ -1741,7 +1744,8 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
                 edmi_real err, dj[3], dl[3], m;
                 int kk[3];
                 v = order[(lo + w + 2 * qm->n) % qm->n];
-                if (!edmi__solve_coarse(&c[0], k3, e12 + bq[v], goal, hi, &k0, &got))
+                if (!edmi__solve_coarse(&c[0], k3 < 0 ? -k3 : k3, k3 < 0, e12 + bq[v], goal, hi,
+                                        &k0, &got))
                     continue;
                 err = edmi__max(edmi__abs(got - goal), tol);
                 if (err > best)
@@ -2064,6 +2068,13 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
             return EDMI_ERR_PASSIVITY;
         if (!edmi__reaim(sys, work, bal, &t))
             return EDMI_ERR_PASSIVITY;
+        /* last resort, e.g. a position's rounding larger than the kinetic energy left: any
+         * candidate below the certificate, however far from the target */
+        if (!edmi__certified(&t)) {
+            if (edmi__guard_round(sys, work, bal, &t, -EDMI__ROUND_WIDE_K0, res) < 0 ||
+                !edmi__reaim(sys, work, bal, &t))
+                return EDMI_ERR_PASSIVITY;
+        }
     }
     for (i = 0; i < EDMI__GUARD_NUDGES && !edmi__certified(&t); i++) {
         n = edmi__pick_comps(sys, work, c);
@@ -2341,6 +2352,23 @@ static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work,
     return fl;
 }
 
+/* The explicit predictor (edmi__newton): from the residual at (q_n, p_n), R_p = the impulse
+ * of the forces over the step with the sign of R_p, p = p_n - R_p, q = q_n + dt/(2m)(p_n + p);
+ * evaluated, with *r its scaled residual. */
+static edmi_status edmi__explicit_predictor(const edmi_system *sys, edmi_workspace *work,
+                                            edmi_real dt, edmi_real *r, edmi_step_result *res)
+{
+    int a, i;
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        for (i = 0; i < 3; i++) {
+            work->p1[a][i] = bd->p[i] - work->rp[a][i];
+            work->q1[a][i] = bd->q[i] + dt / (EDMI_R(2.0) * bd->m) * (bd->p[i] + work->p1[a][i]);
+        }
+    }
+    return edmi__evaluate(sys, work, dt, r, res);
+}
+
 /* A residual that stopped halving within this factor of its round-off noise is there. */
 #define EDMI__NOISE_FACTOR EDMI_R(8.0)
 
@@ -2374,6 +2402,16 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         return EDMI_OK;
     for (l = 1;; l++) {
         st = edmi__newton_update(sys, work, dt);
+        if (st == EDMI_ERR_SINGULAR && l == 1) {
+            /* Singular at the paper's predictor (q_n, p_n): a compressed link at dt beyond
+             * 2 sqrt(m / |beta|) can make the transverse stiffness cancel the identity exactly
+             * there, and a body at rest would stay on that point for ever. Start once more
+             * from the explicit predictor p = p_n - R_p(q_n, p_n) (the forces' impulse),
+             * q = q_n + dt/(2m) (p_n + p). */
+            st = edmi__explicit_predictor(sys, work, dt, &r, res);
+            if (st == EDMI_OK)
+                st = edmi__newton_update(sys, work, dt);
+        }
         if (st != EDMI_OK)
             return st;
         c = edmi__scaled_norm(sys, work, work->rhs, (const edmi_real (*)[3])work->dp);
