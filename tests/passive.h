@@ -37,7 +37,8 @@ typedef enum tp_scene {
 
 const char *tp_scene_name(tp_scene s);
 
-/* Build scene s with parameters prm (scheme, guard, ...) into sys; *dt its time step. */
+/* Build scene s with parameters prm (scheme, guard, ...) and fallback on, as a control loop
+ * runs it, into sys; *dt its time step. */
 edmi_status tp_build(tp_scene s, const edmi_params *prm, edmi_system *sys, edmi_real *dt);
 
 /* The scene's controller before step n: port forces and anchor moves for the next tick. */

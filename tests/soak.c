@@ -62,7 +62,9 @@ int main(int argc, char **argv)
             CHECK(st.violations == 0);
             if (s == TP_SPRING || s == TP_STIFF || s == TP_COLLIDE)
                 CHECK(st.rises == 0);
-            if (s != TP_STIFF)
+            /* the default schemes solve every step of the other scenes; MP and LG under
+             * EDMI_GUARD_ON, off their default, may fall back (reported) */
+            if (s != TP_STIFF && k < 3)
                 CHECK(st.fallbacks == 0);
             if (s == TP_SPRING && soak_schemes[k] == EDMI_PM) {
                 long double drift = (st.h_last - st.h0) / scale;

@@ -67,7 +67,7 @@ static void gd_scenes(void)
             CHECK(st.violations == 0);
             if (sc == TP_SPRING || sc == TP_STIFF || sc == TP_COLLIDE)
                 CHECK(st.rises == 0);
-            if (sc != TP_STIFF)
+            if (sc != TP_STIFF && k < 3) /* GE, PM, PT solve every step here */
                 CHECK(st.fallbacks == 0);
             if (th_failed() != f0 || sc == TP_SPRING)
                 gd_log((tp_scene)sc, gd_schemes[k], &st);
