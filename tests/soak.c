@@ -71,5 +71,21 @@ int main(int argc, char **argv)
                 CHECK(drift <= 0.0L && -drift <= SOAK_SPRING_DRIFT);
             }
         }
+    {
+        /* For reference, what the guard prevents: PM on the spring with the guard off. Its
+         * stored H rises on about half the steps (not a failure: there is no guarantee to
+         * check without the guard). */
+        edmi_params prm = edmi_default_params();
+        tp_stats st;
+        prm.scheme = EDMI_PM;
+        prm.guard = EDMI_GUARD_OFF;
+        tp_run(TP_SPRING, &prm, n, &st);
+        printf("reference, guard off: paper spring PM: %ld steps %s, H rose on %ld (%.1f %%), "
+               "(HN-H0)/H0 %.3Le, max|dJ| %.2Le\n",
+               st.steps, edmi_status_name(st.status), st.rises,
+               st.steps ? 100.0 * (double)st.rises / (double)st.steps : 0.0,
+               (st.h_last - st.h0) / st.h0, st.max_dj);
+        CHECK_STATUS(st.status, EDMI_OK);
+    }
     return th_finish() == 0 ? 0 : 1;
 }
