@@ -29,10 +29,13 @@ enum {
     SIM__SET_TOL_A,
     SIM__SET_L_MAX,
     SIM__SET_EVERY,
+    SIM__SET_GUARD,
+    SIM__SET_FALLBACK,
     SIM__N_SET
 };
 static const char *const sim__set_names[SIM__N_SET] = {
-    "scheme", "lg_switch", "dt", "t_end", "tol_q", "tol_r", "tol_a", "l_max", "every"};
+    "scheme", "lg_switch", "dt", "t_end", "tol_q", "tol_r", "tol_a", "l_max", "every",
+    "guard", "fallback"};
 
 /* Parsing state of one file. */
 typedef struct sim__ctx {
@@ -114,6 +117,38 @@ int sim_parse_lg_switch(const char *w, edmi_params *prm)
             return 0;
         }
     return -1;
+}
+
+int sim_parse_guard(const char *w, edmi_guard_mode *out)
+{
+    static const char *const names[] = {"auto", "on", "off"};
+    static const edmi_guard_mode values[] = {EDMI_GUARD_AUTO, EDMI_GUARD_ON, EDMI_GUARD_OFF};
+    size_t i;
+    for (i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (strcmp(w, names[i]) == 0) {
+            *out = values[i];
+            return 0;
+        }
+    return -1;
+}
+
+int sim_parse_on_off(const char *w, int *out)
+{
+    if (strcmp(w, "on") == 0 || strcmp(w, "off") == 0) {
+        *out = w[1] == 'n';
+        return 0;
+    }
+    return -1;
+}
+
+const char *sim_guard_word(edmi_guard_mode g)
+{
+    switch (g) {
+    case EDMI_GUARD_AUTO: return "auto";
+    case EDMI_GUARD_ON: return "on";
+    case EDMI_GUARD_OFF: return "off";
+    default: return "?";
+    }
 }
 
 const char *sim_scheme_word(edmi_scheme s)
@@ -619,7 +654,7 @@ static int sim__key_set(sim__ctx *c)
             break;
     if (k == SIM__N_SET)
         return sim__fail(c, "set: unknown setting '%s' (expected scheme, lg_switch, dt, t_end, "
-                         "tol_q, tol_r, tol_a, l_max or every)", c->tok[1]);
+                         "tol_q, tol_r, tol_a, l_max, every, guard or fallback)", c->tok[1]);
     snprintf(c->key, sizeof c->key, "set %s", sim__set_names[k]);
     if (sim__count(c, 1, 2, names, "set KEY VALUE"))
         return -1;
@@ -669,6 +704,14 @@ static int sim__key_set(sim__ctx *c)
         if (sim__int_setting(c, 2, &n))
             return -1;
         s->every = n;
+        break;
+    case SIM__SET_GUARD:
+        if (sim_parse_guard(c->tok[2], &s->params.guard))
+            return sim__fail(c, "set guard: bad value '%s' (expected auto, on or off)", c->tok[2]);
+        break;
+    case SIM__SET_FALLBACK:
+        if (sim_parse_on_off(c->tok[2], &s->params.fallback))
+            return sim__fail(c, "set fallback: bad value '%s' (expected on or off)", c->tok[2]);
         break;
     default:
         break;

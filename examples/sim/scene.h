@@ -67,6 +67,15 @@ int sim_parse_scheme(const char *word, edmi_scheme *out);
  *  (EDMI_LG_QUOTIENT with that alternate). \return 0 on success, -1 if unknown. */
 int sim_parse_lg_switch(const char *word, edmi_params *prm);
 
+/** \brief Parse a guard mode: auto, on, off. \return 0 on success, -1 if unknown. */
+int sim_parse_guard(const char *word, edmi_guard_mode *out);
+
+/** \brief Parse on (1) or off (0). \return 0 on success, -1 otherwise. */
+int sim_parse_on_off(const char *word, int *out);
+
+/** \brief "auto", "on" or "off" for a guard mode. */
+const char *sim_guard_word(edmi_guard_mode g);
+
 /** \brief "mp", "lg", ... for a scheme; "closed", "janz", ... for an LG form/alternate. */
 const char *sim_scheme_word(edmi_scheme s);
 const char *sim_lg_switch_word(const edmi_params *prm);

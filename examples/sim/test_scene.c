@@ -223,6 +223,8 @@ static void test_settings(void)
     EXPECT_ERROR(TWO "set l_max 2.5\n", "t.scene:3: ", "set l_max: bad integer '2.5'");
     EXPECT_ERROR(TWO "set l_max 0\n", "t.scene:3: ", "set l_max: 0 must be >= 1");
     EXPECT_ERROR(TWO "set every x\n", "t.scene:3: ", "set every: bad integer 'x'");
+    EXPECT_ERROR(TWO "set guard yes\n", "t.scene:3: ", "set guard: bad value 'yes'");
+    EXPECT_ERROR(TWO "set fallback 1\n", "t.scene:3: ", "set fallback: bad value '1'");
     EXPECT_ERROR(TWO "set dt 1\n# again\nset dt 2\n", "t.scene:5: ",
                  "set dt: already set on line 3");
     EXPECT_ERROR(TWO "title a\ntitle b\n", "t.scene:4: ", "title: already given on line 3");
@@ -245,7 +247,7 @@ static void test_valid(void)
                        "force sun 1 2 3\n"
                        "set scheme pt\nset lg_switch ge\nset dt 1e-3\nset t_end 2\n"
                        "set tol_q 1e-6\nset tol_r 1e-11\nset tol_a 1e-14\nset l_max 30\n"
-                       "set every 7";
+                       "set every 7\nset guard off\nset fallback on";
     if (!CHECK(parse_ok(text)))
         return;
     CHECK(strcmp(scn.title, "a test") == 0);
@@ -272,6 +274,7 @@ static void test_valid(void)
           scn.params.tol_q == (edmi_real)1e-6 && scn.params.tol_r == (edmi_real)1e-11 &&
           scn.params.tol_a == (edmi_real)1e-14);
     CHECK(scn.dt == 1e-3 && scn.t_end == 2.0 && scn.every == 7);
+    CHECK(scn.params.guard == EDMI_GUARD_OFF && scn.params.fallback == 1);
     v = sim_scene_view(&scn);
     CHECK(edmi_load_scene(&sys, &v) == EDMI_OK);
     CHECK(sys.n_bodies == 3 && sys.n_links == 6 && sys.n_dampers == 7 && sys.has_field);
@@ -279,7 +282,8 @@ static void test_valid(void)
     if (CHECK(parse_ok("body 1 0 0 0 0 0 0"))) {
         edmi_params d = edmi_default_params();
         CHECK(scn.params.scheme == d.scheme && scn.params.lg_form == d.lg_form &&
-              scn.params.tol_r == d.tol_r && scn.dt == 0.0 && scn.t_end == 0.0 &&
+              scn.params.tol_r == d.tol_r && scn.params.guard == EDMI_GUARD_AUTO &&
+              scn.params.fallback == 0 && scn.dt == 0.0 && scn.t_end == 0.0 &&
               scn.every == 0 && !scn.has_field);
     }
     /* a name may look like a potential or key: it is just a name */
