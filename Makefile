@@ -55,7 +55,7 @@ run: $(HOST)/paper_spring $(SIM_BIN)
 # ---- tests: the same sources in four configurations ------------------------------------------
 # tests/test_main.c is matched by test_*.c too; $(sort) removes the duplicate.
 TEST_SRC := $(sort tests/harness.c tests/host_io.c $(wildcard tests/test_*.c tests/scenes.c tests/passive.c))
-TEST_HDR := $(wildcard tests/*.h)
+TEST_HDR := $(wildcard tests/*.h) examples/haptic_hand.h
 CONFIGS := double float double-san float-san
 real_of = $(firstword $(subst -, ,$(1)))
 flags_of = $(CFLAGS) $(if $(findstring -san,$(1)),$(SAN))
@@ -98,7 +98,7 @@ test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST)
 # tests/soak.c; the inequality H_n+1 - H_n <= W is checked in long double after every step.
 SOAK_STEPS ?= 1000000
 SOAK_SRC := tests/soak.c tests/passive.c tests/harness.c tests/host_io.c
-$(BUILD)/soak-%/soak: $(SOAK_SRC) tests/passive.h tests/harness.h edmi.c edmi.h
+$(BUILD)/soak-%/soak: $(SOAK_SRC) tests/passive.h tests/harness.h examples/haptic_hand.h edmi.c edmi.h
 	mkdir -p $(@D)
 	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* $(SOAK_SRC) edmi.c -o $@ $(LDLIBS)
 

@@ -163,7 +163,7 @@ TGT_REAL_an500 := double
 TGT_LD := port/cortex-m/mps2.ld
 TGT_PORT_HDR := $(wildcard port/cortex-m/*.h)
 TGT_TEST_SRC = $(sort tests/harness.c tests/target_io.c $(wildcard tests/test_*.c tests/scenes.c tests/passive.c))
-TGT_TEST_HDR = $(wildcard tests/*.h)
+TGT_TEST_HDR = $(wildcard tests/*.h) examples/haptic_hand.h
 
 # $(1) = board. Objects of the board's programs in $(TGT)/$(1)/.
 define tgt_board_rules

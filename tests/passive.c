@@ -17,6 +17,8 @@
 
 #include <float.h>
 
+#include "../examples/haptic_hand.h" /* hh_sin: a sine without libm */
+
 #define TP_ERR_ULPS 16.0L
 
 static long double tp_absl(long double x) { return x < 0.0L ? -x : x; }
@@ -167,35 +169,14 @@ static edmi_real tp_rand(void)
     return (edmi_real)((long)(tp_seed >> 8) - 0x800000L) / (edmi_real)0x800000L;
 }
 
-/* sin x for the hand's trajectory, without libm: x reduced to [-pi, pi], then a Taylor
- * series to 1e-16 (the trajectory only needs to be smooth and reproducible). */
-static edmi_real tp_sin(edmi_real x)
-{
-    static const edmi_real two_pi = EDMI_R(6.283185307179586);
-    edmi_real t, sum, term;
-    int k;
-    x -= two_pi * (edmi_real)(long)(x / two_pi);
-    if (x > EDMI_R(3.141592653589793))
-        x -= two_pi;
-    if (x < EDMI_R(-3.141592653589793))
-        x += two_pi;
-    t = x * x;
-    sum = term = x;
-    for (k = 1; k < 12; k++) {
-        term *= -t / (edmi_real)((2 * k) * (2 * k + 1));
-        sum += term;
-    }
-    return sum;
-}
-
 /* The hand of TP_COUPLING at time t: through the origin (where the body starts) at t = 0,
  * 20-60 mm excursions at 1, 3 and 7 Hz. */
 static void tp_hand(edmi_real t, edmi_real x[3])
 {
     static const edmi_real w = EDMI_R(6.283185307179586);
-    x[0] = EDMI_R(0.05) * tp_sin(w * t) + EDMI_R(0.02) * tp_sin(EDMI_R(7.0) * w * t);
-    x[1] = EDMI_R(0.03) * tp_sin(EDMI_R(3.0) * w * t);
-    x[2] = EDMI_R(0.01) * tp_sin(EDMI_R(2.0) * w * t);
+    x[0] = EDMI_R(0.05) * hh_sin(w * t) + EDMI_R(0.02) * hh_sin(EDMI_R(7.0) * w * t);
+    x[1] = EDMI_R(0.03) * hh_sin(EDMI_R(3.0) * w * t);
+    x[2] = EDMI_R(0.01) * hh_sin(EDMI_R(2.0) * w * t);
 }
 
 static edmi_status tp_body(edmi_system *sys, edmi_real m, edmi_real x, edmi_real y, edmi_real z,

@@ -435,6 +435,42 @@ static edmi_real tg_fd4(edmi_real fm2, edmi_real fm1, edmi_real fp1, edmi_real f
 
 static edmi_real tg_worst_fd; /* largest FD tolerance / max|K| seen, for the log */
 
+/* Each column k of kmat (n x n, max |entry| kscale) against the 4th-order stencil of R_p in
+ * q1's coordinate k with step h, its truncation estimated by Richardson (2h against h) and
+ * its round-off bounded by eround. *worst: the largest tolerance / kscale. 0 on a failure. */
+static int tg_fd_columns(const tg_scene *sc, int n, const edmi_real *kmat, edmi_real kscale,
+                         edmi_real h, edmi_real eround, edmi_real *worst)
+{
+    static const edmi_real s[6] = {EDMI_R(-4.0), EDMI_R(-2.0), EDMI_R(-1.0),
+                                   EDMI_R(1.0),  EDMI_R(2.0),  EDMI_R(4.0)};
+    edmi_real q1[TG_NB][3], f[6][TG_NB][3]; /* R_p at -4h, -2h, -h, +h, +2h, +4h */
+    int i, k, ok = 1;
+    memcpy(q1, sc->q1, sizeof q1);
+    for (k = 0; k < n && ok; k++) {
+        for (i = 0; i < 6 && ok; i++)
+            ok = tg_rp_at(sc, q1, k, s[i] * h, f[i]);
+        if (!CHECK(ok))
+            break;
+        for (i = 0; i < n; i++) {
+            int ba = i / 3, c = i % 3;
+            edmi_real d1h = tg_fd4(f[1][ba][c], f[2][ba][c], f[3][ba][c], f[4][ba][c], h);
+            edmi_real d2h = tg_fd4(f[0][ba][c], f[1][ba][c], f[4][ba][c], f[5][ba][c],
+                                   EDMI_R(2.0) * h);
+            edmi_real tol = EDMI_R(2.0) * tg_abs(d2h - d1h) / EDMI_R(15.0) + eround +
+                            TG_U_K * kscale;
+            CHECK_NEAR(kmat[i * n + k], d1h, tol, EDMI_R(0.0));
+            /* a tolerance that large would make the comparison meaningless */
+            if (!CHECK(tol <= TG_FD_CAP * kscale)) {
+                th_note_real("FD tolerance / max|K|", tol / kscale);
+                ok = 0;
+                break;
+            }
+            *worst = tg_max(*worst, tol / kscale);
+        }
+    }
+    return ok;
+}
+
 /* After failures, say which scene and scheme they came from. */
 static void tg_where(int failed_before, int which, int conf)
 {
@@ -451,10 +487,10 @@ static void tg_where(int failed_before, int which, int conf)
 static void tg_check_trial(int which, int conf)
 {
     tg_scene sc;
-    int forced, nsw = -1, a, i, j, k, n, ok, f0;
+    int forced, nsw = -1, a, i, j, n, f0;
     edmi_params prm = tg_conf(conf, &forced);
     edmi_real rq[TG_NB][3], rp[TG_NB][3], xq[TG_NB][3], xp[TG_NB][3];
-    edmi_real kmat[TG_N * TG_N], q1[TG_NB][3];
+    edmi_real kmat[TG_N * TG_N];
     edmi_real rp_err = EDMI_R(0.0), rq_scale = EDMI_R(0.0), dmin, h, kscale, eround;
 
     if (!CHECK(tg_build(which, &prm, &sc)))
@@ -511,33 +547,7 @@ static void tg_check_trial(int which, int conf)
         kscale = tg_max(kscale, tg_abs(kmat[i]));
     /* Round-off of D(h): (1 + 8 + 8 + 1)/12 times the error of one R_p entry, over h. */
     eround = EDMI_R(1.5) * rp_err / h;
-    memcpy(q1, sc.q1, sizeof q1);
-    ok = 1;
-    for (k = 0; k < n && ok; k++) {
-        edmi_real f[6][TG_NB][3]; /* R_p at -4h, -2h, -h, +h, +2h, +4h */
-        static const edmi_real s[6] = {EDMI_R(-4.0), EDMI_R(-2.0), EDMI_R(-1.0),
-                                       EDMI_R(1.0),  EDMI_R(2.0),  EDMI_R(4.0)};
-        for (i = 0; i < 6 && ok; i++)
-            ok = tg_rp_at(&sc, q1, k, s[i] * h, f[i]);
-        if (!CHECK(ok))
-            break;
-        for (i = 0; i < n; i++) {
-            int ba = i / 3, c = i % 3;
-            edmi_real d1h = tg_fd4(f[1][ba][c], f[2][ba][c], f[3][ba][c], f[4][ba][c], h);
-            edmi_real d2h = tg_fd4(f[0][ba][c], f[1][ba][c], f[4][ba][c], f[5][ba][c],
-                                   EDMI_R(2.0) * h);
-            edmi_real tol = EDMI_R(2.0) * tg_abs(d2h - d1h) / EDMI_R(15.0) + eround +
-                            TG_U_K * kscale;
-            CHECK_NEAR(kmat[i * n + k], d1h, tol, EDMI_R(0.0));
-            /* a tolerance that large would make the comparison meaningless */
-            if (!CHECK(tol <= TG_FD_CAP * kscale)) {
-                th_note_real("FD tolerance / max|K|", tol / kscale);
-                ok = 0;
-                break;
-            }
-            tg_worst_fd = tg_max(tg_worst_fd, tol / kscale);
-        }
-    }
+    tg_fd_columns(&sc, n, kmat, kscale, h, eround, &tg_worst_fd);
     tg_where(f0, which, conf);
 }
 
@@ -915,16 +925,14 @@ static int tg_damp_build(int which, tg_scene *sc, edmi_real *c)
  * the damper impulse c |dr|. */
 static void tg_damp_check(int which)
 {
-    static const edmi_real s[6] = {EDMI_R(-4.0), EDMI_R(-2.0), EDMI_R(-1.0),
-                                   EDMI_R(1.0),  EDMI_R(2.0),  EDMI_R(4.0)};
     tg_scene sc;
-    edmi_real kmat[TG_N * TG_N], q1[TG_NB][3], f[6][TG_NB][3];
+    edmi_real kmat[TG_N * TG_N];
     edmi_real c = EDMI_R(0.0), len = EDMI_REAL_MAX, mag = EDMI_R(0.0), h, kscale = EDMI_R(0.0);
     edmi_real eround, worst = EDMI_R(0.0);
     const edmi_link *lk = &tg_sys.link[0];
     edmi_real r0[3], r1[3], rm[3], dr[3];
     edmi_pot_parts pp;
-    int n, i, k, a, ok = 1, f0 = th_failed();
+    int n, i, a, f0 = th_failed();
     if (!CHECK(tg_damp_build(which, &sc, &c)))
         return;
     n = 3 * tg_sys.n_bodies;
@@ -953,28 +961,7 @@ static void tg_damp_check(int which)
         kscale = tg_max(kscale, tg_abs(kmat[i]));
     h = len * TG_FD_REL;
     eround = EDMI_R(1.5) * (TG_U_SUM + TG_U_RP) * mag / h;
-    memcpy(q1, sc.q1, sizeof q1);
-    for (k = 0; k < n && ok; k++) {
-        for (i = 0; i < 6 && ok; i++)
-            ok = tg_rp_at(&sc, q1, k, s[i] * h, f[i]);
-        if (!CHECK(ok))
-            break;
-        for (i = 0; i < n; i++) {
-            int ba = i / 3, cc = i % 3;
-            edmi_real d1h = tg_fd4(f[1][ba][cc], f[2][ba][cc], f[3][ba][cc], f[4][ba][cc], h);
-            edmi_real d2h = tg_fd4(f[0][ba][cc], f[1][ba][cc], f[4][ba][cc], f[5][ba][cc],
-                                   EDMI_R(2.0) * h);
-            edmi_real tol = EDMI_R(2.0) * tg_abs(d2h - d1h) / EDMI_R(15.0) + eround +
-                            TG_U_K * kscale;
-            CHECK_NEAR(kmat[i * n + k], d1h, tol, EDMI_R(0.0));
-            if (!CHECK(tol <= TG_FD_CAP * kscale)) {
-                th_note_real("FD tolerance / max|K|", tol / kscale);
-                ok = 0;
-                break;
-            }
-            worst = tg_max(worst, tol / kscale);
-        }
-    }
+    tg_fd_columns(&sc, n, kmat, kscale, h, eround, &worst);
     th_puts("  damper tangent vs FD, ");
     th_puts(tg_damp_name[which]);
     th_puts(": FD tolerance / max|K| = ");
