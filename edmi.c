@@ -1414,6 +1414,10 @@ typedef struct edmi__balance {
     edmi__dw scheme;   /* diss_scheme: sum over links of beta (d_n+1^2 - d_n^2)/2 - dV */
     edmi_real err_v;   /* bound on |error| of dv (and of scheme) */
     edmi_real err_k;   /* bound on |error| of dk */
+    edmi_real size_v;  /* sum over the changed V terms of |V| + |V'| d at both ends (|V'| d as
+                          |beta| d^2), and m |g| |q| for the field: what a plain evaluation
+                          of dv errs by, per unit of round-off */
+    edmi_real size_k;  /* K_n + K_n+1 over the bodies whose momentum changed: the same for dk */
 } edmi__balance;
 
 static int edmi__same3(const edmi_real a[3], const edmi_real b[3])
@@ -1430,6 +1434,7 @@ static edmi_status edmi__delta_v(const edmi_system *sys, const edmi_workspace *w
     bal->dv = edmi__dw_of(EDMI__ZERO);
     bal->scheme = edmi__dw_of(EDMI__ZERO);
     bal->err_v = EDMI__ZERO;
+    bal->size_v = EDMI__ZERO;
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         const edmi_link_ws *w = &work->lw[j];
@@ -1454,6 +1459,7 @@ static edmi_status edmi__delta_v(const edmi_system *sys, const edmi_workspace *w
         dv = edmi__dw_sub(v1, v0);
         bal->dv = edmi__dw_add(bal->dv, dv);
         bal->err_v += e0 + e1;
+        bal->size_v += edmi__abs(v0.hi) + edmi__abs(v1.hi) + edmi__abs(w->beta) * (s0.hi + s1.hi);
         /* the work of f = dt beta r_m over the step, per dt: beta (d_n+1^2 - d_n^2) / 2 */
         bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_sub(edmi__dw_mul_r(edmi__dw_sub(s1, s0),
                                                                            EDMI__HALF * w->beta),
@@ -1462,14 +1468,16 @@ static edmi_status edmi__delta_v(const edmi_system *sys, const edmi_workspace *w
     if (sys->has_field) /* V = -sum m g . q */
         for (a = 0; a < sys->n_bodies; a++) {
             edmi__dw wg;
+            edmi_real mag;
             if (edmi__same3(q1[a], sys->body[a].q))
                 continue;
             wg = edmi__dw_work(sys->g, q1[a], sys->body[a].q);
             bal->dv = edmi__dw_sub(bal->dv, edmi__dw_mul_r(wg, sys->body[a].m));
-            bal->err_v += EDMI__DW_ERR * sys->body[a].m *
-                              (edmi__abs(wg.hi) + edmi__norm(sys->g) *
-                                                      (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q))) +
-                          EDMI__DW_TINY;
+            mag = sys->body[a].m * (edmi__abs(wg.hi) + edmi__norm(sys->g) *
+                                                           (edmi__norm(q1[a]) +
+                                                            edmi__norm(sys->body[a].q)));
+            bal->err_v += EDMI__DW_ERR * mag + EDMI__DW_TINY;
+            bal->size_v += mag;
         }
     return EDMI_OK;
 }
@@ -1480,6 +1488,7 @@ static void edmi__delta_k(const edmi_system *sys, const edmi_real (*p1)[3], edmi
     int a;
     bal->dk = edmi__dw_of(EDMI__ZERO);
     bal->err_k = EDMI__ZERO;
+    bal->size_k = EDMI__ZERO;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi__dw s1, s0, m2;
@@ -1489,6 +1498,7 @@ static void edmi__delta_k(const edmi_system *sys, const edmi_real (*p1)[3], edmi
         s0 = edmi__dw_dot(bd->p, bd->p);
         m2 = edmi__dw_of(EDMI_R(2.0) * bd->m);
         bal->dk = edmi__dw_add(bal->dk, edmi__dw_div(edmi__dw_sub(s1, s0), m2));
+        bal->size_k += (s1.hi + s0.hi) / m2.hi;
         bal->err_k += EDMI__DW_ERR * (s1.hi + s0.hi) / m2.hi + EDMI__DW_TINY;
     }
 }
@@ -1892,8 +1902,9 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
  * work, its certification margin, and where to aim. */
 typedef struct edmi__aim {
     edmi_real e, margin; /* H change - work <= e + margin, exactly */
-    edmi_real goal, hi;  /* wanted K change (to work - diss), and the largest one allowed */
+    edmi_real goal, hi;  /* wanted K change (to work - diss), and the largest one sought */
     edmi_real diss, tol; /* the law's dissipation; how close to goal is close enough */
+    edmi_real strict;    /* how far below the work the search keeps H's change (>= 0) */
 } edmi__aim;
 
 /* Re-evaluate K's change for the current work->p1, and the aim. 0 if beyond range. */
@@ -1903,7 +1914,7 @@ static int edmi__reaim(const edmi_system *sys, const edmi_workspace *work, edmi_
     edmi__delta_k(sys, (const edmi_real (*)[3])work->p1, bal);
     if (!edmi__excess(bal, &t->e, &t->margin))
         return 0;
-    t->hi = -t->e - t->margin;
+    t->hi = -t->e - t->margin - t->strict;
     t->goal = -t->diss - t->e;
     if (t->goal > t->hi)
         t->goal = t->hi;
@@ -1914,7 +1925,7 @@ static int edmi__certified(const edmi__aim *t) { return t->e + t->margin <= EDMI
 
 static int edmi__on_target(const edmi__aim *t)
 {
-    return edmi__certified(t) && edmi__abs(t->goal) <= t->tol;
+    return t->e + t->margin <= -t->strict && edmi__abs(t->goal) <= t->tol;
 }
 
 /* One energy-aware rounding, the coarsest component within k3 units; 0 if nothing in range. */
@@ -2024,6 +2035,17 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
  * is rounded towards the target. */
 #define EDMI__GUARD_SLACK (EDMI_R(1.0) / EDMI_R(8796093022208.0))
 
+/* How far below the work the guard seeks to keep H's change, relative to the size of the
+ * changed terms (balance size_v + size_k): 2^-58. An H change of 0 to -1e-18 of them
+ * satisfies the guarantee, but a plain evaluation of H in a 64-bit significand (x87 long
+ * double), whose error is a few 2^-64 of them, cannot tell its sign and sees the energy rise
+ * on some steps. The search looks below this margin first; where nothing lies there (a body
+ * at rest in its minimum), the certificate H_n+1 - H_n <= work is all that is asked. Below
+ * double's grid (~2^-52), so in double it moves a state by a unit in the last place on the
+ * steps whose dissipation is that small; in float it only sets which of the grid's
+ * candidates is taken. */
+#define EDMI__GUARD_STRICT (EDMI_R(1.0) / EDMI_R(288230376151711744.0))
+
 /* After the search, if its working-precision estimate left the stored state a hair above the
  * certificate, step the finest picked component one unit towards zero, at most this often
  * (the last times the coarsest). */
@@ -2038,13 +2060,21 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     edmi__comp c[3];
     edmi__dw h_newton;
     edmi__aim t;
+    edmi_real terms;
     int n, k[3], i, r;
     t.diss = diss;
+    t.strict = EDMI__ZERO;
     if (!edmi__reaim(sys, work, bal, &t))
         return EDMI_ERR_PASSIVITY;
     /* err_v + err_k = EDMI__DW_ERR times the magnitude of H's terms (plus a tiny) */
-    t.tol = edmi__max(diss / EDMI_R(8.0),
-                      EDMI__GUARD_SLACK * (bal->err_v + bal->err_k) / EDMI__DW_ERR);
+    terms = (bal->err_v + bal->err_k) / EDMI__DW_ERR;
+    t.tol = edmi__max(diss / EDMI_R(8.0), EDMI__GUARD_SLACK * terms);
+    t.strict = EDMI__GUARD_STRICT * (bal->size_v + bal->size_k);
+    if (!edmi__finite(t.strict))
+        t.strict = EDMI__ZERO;
+    t.hi -= t.strict;
+    if (t.goal > t.hi)
+        t.goal = t.hi;
     h_newton = edmi__dw_add(bal->dv, bal->dk);
     if (!edmi__on_target(&t)) {
         /* the bulk by an impulse that keeps J, when more than a couple of units are needed */
@@ -2058,7 +2088,7 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         r = edmi__on_target(&t) ? 1 : edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
         if (r == 0)
             r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_WIDE_K0, res);
-        if (r == 0 && edmi__guard_drag(sys, work, t.goal)) {
+        if (r == 0 && !edmi__certified(&t) && edmi__guard_drag(sys, work, t.goal)) {
             res->guard_action |= EDMI_GUARD_DRAG;
             if (!edmi__reaim(sys, work, bal, &t))
                 return EDMI_ERR_PASSIVITY;
