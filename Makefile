@@ -3,6 +3,8 @@
 #   make run        the paper's stiff neo-Hookean spring (examples/paper_spring.c)
 #   make test       the test suite in four configurations + library checks; last line is the total
 #   make soak       the passivity guard's adversarial scenes, 10^6 steps per case (SOAK_STEPS)
+#   make fuzz       the API fuzzer, both precisions, FUZZ_TIME seconds each (clang, libFuzzer)
+#   make fuzz-cov   edmi.c's line and branch coverage by the fuzz corpora
 #   make refs       regenerate tests/ref_track.h, the double reference the float suite tracks
 #   make cross      the library for a Cortex-M4F (float), its size, and its external references
 #   make clean
@@ -30,7 +32,7 @@ ARM_NM ?= arm-none-eabi-nm
 ARM_SIZE ?= arm-none-eabi-size
 ARM_TARGET := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
 
-.PHONY: all run test soak refs cross clean
+.PHONY: all run test soak refs cross clean fuzz fuzz-cov
 
 # ---- host: library and examples ------------------------------------------------------------
 HOST := $(BUILD)/$(EDMI_REAL)
@@ -84,14 +86,17 @@ $(CHECK)/cxx_header-%: $(CHECK)/cxx_header-%.o $(CHECK)/edmi-%.o
 .SECONDARY: $(CHECK)/cxx_header-double.o $(CHECK)/cxx_header-float.o
 
 TEST_BINS := $(foreach c,$(CONFIGS),$(BUILD)/test-$(c)/edmi_tests)
+# The fuzz harness over its seed corpus and reproducers, under ASan+UBSan (see "fuzz" below).
+REPLAY_BINS := $(BUILD)/replay-double/replay $(BUILD)/replay-float/replay
 CXX_BINS := $(CHECK)/cxx_header-double $(CHECK)/cxx_header-float
 CHECK_OBJS := $(CHECK)/edmi-double.o $(CHECK)/edmi-float.o \
               $(BUILD)/test-double/edmi.o $(BUILD)/test-float/edmi.o
 
 # Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
-test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST)
+test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(REPLAY_BINS)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
 	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' \
+	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)')
 
 # ---- soak: the guard's adversarial scenes for 10^6 steps per case, in both precisions ---------
@@ -105,6 +110,39 @@ $(BUILD)/soak-%/soak: $(SOAK_SRC) tests/passive.h tests/harness.h examples/hapti
 soak: $(BUILD)/soak-float/soak $(BUILD)/soak-double/soak
 	bash tests/run_all.sh '$(BUILD)/soak-float/soak $(SOAK_STEPS)' \
 	    '$(BUILD)/soak-double/soak $(SOAK_STEPS)'
+
+# ---- fuzz: every public function under libFuzzer, both precisions (tests/fuzz/) -------------
+#   make fuzz FUZZ_TIME=1800   each precision's fuzzer for FUZZ_TIME seconds, side by side
+#   make fuzz-cov              edmi.c's line and branch coverage by the corpora
+# make test replays the seed corpus tests/fuzz/corpus (reproducers included) with $(CC).
+CLANG ?= clang
+LLVM_PROFDATA ?= llvm-profdata
+LLVM_COV ?= llvm-cov
+FUZZ_TIME ?= 60
+# Small capacities, so that inputs reach every EDMI_ERR_CAPACITY boundary.
+FUZZ_CAP := -DEDMI_MAX_BODIES=6 -DEDMI_MAX_LINKS=12 -DEDMI_MAX_DAMPERS=4
+FUZZ_FLAGS := -std=c99 -g -ffp-contract=off -fno-math-errno $(FUZZ_CAP)
+FUZZ_SRC := edmi.c tests/passive.c tests/fuzz/fuzz_api.c
+FUZZ_DEPS := $(FUZZ_SRC) edmi.h tests/passive.h
+$(BUILD)/fuzz-%/fuzz: $(FUZZ_DEPS)
+	mkdir -p $(@D)
+	$(CLANG) $(FUZZ_FLAGS) -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+	    -DEDMI_REAL=$* $(FUZZ_SRC) -o $@ -lm
+
+fuzz: $(BUILD)/fuzz-double/fuzz $(BUILD)/fuzz-float/fuzz
+	bash tests/fuzz/run.sh $(FUZZ_TIME) $(BUILD) double float
+
+$(BUILD)/replay-%/replay: $(FUZZ_DEPS) tests/fuzz/replay.c
+	mkdir -p $(@D)
+	$(CC) $(FUZZ_FLAGS) $(SAN) -DEDMI_REAL=$* $(FUZZ_SRC) tests/fuzz/replay.c -o $@ $(LDLIBS)
+
+$(BUILD)/fuzzcov-%/replay: $(FUZZ_DEPS) tests/fuzz/replay.c
+	mkdir -p $(@D)
+	$(CLANG) $(FUZZ_FLAGS) -O1 -fprofile-instr-generate -fcoverage-mapping -DEDMI_REAL=$* \
+	    $(FUZZ_SRC) tests/fuzz/replay.c -o $@ -lm
+
+fuzz-cov: $(BUILD)/fuzzcov-double/replay $(BUILD)/fuzzcov-float/replay
+	bash tests/fuzz/cov.sh $(BUILD) $(LLVM_PROFDATA) $(LLVM_COV)
 
 # ---- refs: the double-precision reference of tests/test_track.c (tests/ref_track.h) ----------
 # Regenerate after a change to the library that moves double results; the double test suite

@@ -46,7 +46,37 @@ static edmi_real edmi__dot(const edmi_real a[3], const edmi_real b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static edmi_real edmi__norm(const edmi_real a[3]) { return EDMI_SQRT(edmi__dot(a, a)); }
+/* Power-of-two scales (exact) for the norm's rare path: a sum of squares beyond the
+ * precision's range is formed from the vector scaled down (big) or up (small) instead. */
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+#define EDMI__NORM_BIG EDMI_R(0x1p-600)
+#define EDMI__NORM_SMALL EDMI_R(0x1p+600)
+#define EDMI__NORM_SAFE_MIN EDMI_R(0x1p-968) /* 2^54 x the smallest normal */
+#else
+#define EDMI__NORM_BIG EDMI_R(0x1p-70)
+#define EDMI__NORM_SMALL EDMI_R(0x1p+100)
+#define EDMI__NORM_SAFE_MIN EDMI_R(0x1p-100) /* 2^26 x the smallest normal */
+#endif
+
+/* |a|. The plain sqrt(a . a) whenever a . a is finite and far enough above the subnormals
+ * that the squares it dropped are below its rounding; otherwise from a scaled copy, so
+ * that a vector of any finite size has a norm (inf only when the norm itself overflows) and
+ * a non-zero vector a non-zero one (a . a overflows from 1.8e19 in float, 1.3e154 in
+ * double, and underflows to 0 below 1e-23 and 1e-162: Newton's scaled residual was then
+ * NaN or 0 and a step "converged" unsolved). */
+static edmi_real edmi__norm(const edmi_real a[3])
+{
+    edmi_real s = edmi__dot(a, a), b[3], k;
+    if (s >= EDMI__NORM_SAFE_MIN && s <= EDMI_REAL_MAX)
+        return EDMI_SQRT(s);
+    if (a[0] == EDMI__ZERO && a[1] == EDMI__ZERO && a[2] == EDMI__ZERO)
+        return EDMI__ZERO;
+    k = s > EDMI__ONE ? EDMI__NORM_BIG : EDMI__NORM_SMALL;
+    b[0] = a[0] * k;
+    b[1] = a[1] * k;
+    b[2] = a[2] * k;
+    return EDMI_SQRT(edmi__dot(b, b)) / k;
+}
 
 static void edmi__sub(const edmi_real a[3], const edmi_real b[3], edmi_real out[3])
 {
@@ -1015,16 +1045,20 @@ static void edmi__move(const edmi_system *sys, edmi_workspace *work, edmi_real l
  * and the scaled residual is the largest |R_q|/S_q, |R_p|/S_p over bodies.
  * ======================================================================================== */
 
-static void edmi__set_scales(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
+static edmi_status edmi__set_scales(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
 {
     int a;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real sp = edmi__norm(bd->p) + edmi__norm(work->rp[a]);
         edmi_real sq = edmi__norm(bd->q) + dt / bd->m * sp;
+        /* A scale that overflows would make every residual look like 0 against it. */
+        if (!edmi__finite(sq))
+            return EDMI_ERR_RANGE;
         work->sp[a] = sp > EDMI__ZERO ? sp : EDMI__ONE;
         work->sq[a] = sq > EDMI__ZERO ? sq : EDMI__ONE;
     }
+    return EDMI_OK;
 }
 
 /* The scaled norm of a pair of per-body position and momentum blocks (dq in rows of 3). */
@@ -1103,9 +1137,6 @@ static int edmi__link_ends_valid(int n_bodies, int a, int b)
 static edmi_status edmi__validate_effects(const edmi_system *sys)
 {
     int i;
-    if (sys->n_dampers < 0 || sys->n_dampers > EDMI_MAX_DAMPERS || sys->n_forced < 0 ||
-        sys->n_forced > sys->n_bodies)
-        return EDMI_ERR_CAPACITY;
     for (i = 0; i < sys->n_dampers; i++) {
         const edmi_damper *d = &sys->damper[i];
         if (d->link < 0 || d->link >= sys->n_links)
@@ -1120,8 +1151,6 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
         if (!edmi__finite3(sys->force[b]))
             return EDMI_ERR_NONFINITE;
     }
-    if (sys->n_moving < 0 || sys->n_moving > sys->n_links)
-        return EDMI_ERR_CAPACITY;
     for (i = 0; i < sys->n_moving; i++) {
         int j = sys->moving[i];
         if (j < 0 || j >= sys->n_links || sys->link[j].b != EDMI_ANCHOR)
@@ -1136,17 +1165,25 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
     return EDMI_OK;
 }
 
-/* Everything edmi_step checks before it touches anything. */
-static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
+/* The counts every entry point relies on before it indexes an array: a caller that wrote
+ * sys->n_bodies etc. out of range gets EDMI_ERR_CAPACITY, not an access out of bounds. */
+static int edmi__counts_valid(const edmi_system *sys)
+{
+    return sys->n_bodies >= 0 && sys->n_bodies <= EDMI_MAX_BODIES && sys->n_links >= 0 &&
+           sys->n_links <= EDMI_MAX_LINKS && sys->n_dampers >= 0 &&
+           sys->n_dampers <= EDMI_MAX_DAMPERS && sys->n_forced >= 0 &&
+           sys->n_forced <= sys->n_bodies && sys->n_moving >= 0 &&
+           sys->n_moving <= sys->n_links;
+}
+
+/* The system as a whole: what edmi_step and edmi_invariants_of check before they read it. */
+static edmi_status edmi__validate_system(const edmi_system *sys)
 {
     int i;
-    if (!edmi__finite(dt) || !(dt > EDMI__ZERO))
-        return EDMI_ERR_DT;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
     if (!edmi__params_valid(&sys->params))
         return EDMI_ERR_PARAM;
-    if (sys->n_bodies < 0 || sys->n_bodies > EDMI_MAX_BODIES || sys->n_links < 0 ||
-        sys->n_links > EDMI_MAX_LINKS)
-        return EDMI_ERR_CAPACITY;
     for (i = 0; i < sys->n_bodies; i++) {
         const edmi_body *bd = &sys->body[i];
         if (!edmi__finite(bd->m) || !(bd->m > EDMI__ZERO))
@@ -1164,6 +1201,19 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
             return EDMI_ERR_NONFINITE;
     }
     return edmi__validate_effects(sys);
+}
+
+/* Everything edmi_step checks before it touches anything: the system, and a dt the clock
+ * can take (t + dt finite: a clock at +inf would refuse every later step). */
+static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
+{
+    edmi_status st;
+    if (!edmi__finite(dt) || !(dt > EDMI__ZERO))
+        return EDMI_ERR_DT;
+    st = edmi__validate_system(sys);
+    if (st != EDMI_OK)
+        return st;
+    return edmi__finite(sys->t + (dt - sys->t_carry)) ? EDMI_OK : EDMI_ERR_DT;
 }
 
 /* ==========================================================================================
@@ -1324,7 +1374,13 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
  * passes through at most a dozen double-word operations of <= 15u^2 each; with the growth
  * of relative errors through the powers (LJ's (s/d)^6 multiplies the error of s/d by 6) the
  * worst is about 350 u^2 (LJ), so 1024 u^2 = 256 eps^2 leaves a factor 3. Underflow makes
- * TwoProd inexact below ~2^p REAL_MIN: EDMI__DW_TINY per term covers it. */
+ * TwoProd inexact below ~2^p REAL_MIN, by at most a few subnormal units per product:
+ * EDMI__DW_TINY covers that in a quantity, and each term adds it times every factor the
+ * quantity is multiplied or divided by afterwards (1/2m for a kinetic energy, m for the
+ * field's work, a potential's coefficient and |dV/ds| <= 8 M / s for the squared length s
+ * it is evaluated from). Tiny masses, lengths or momenta thus make the bound large and the
+ * step uncertifiable (EDMI_ERR_PASSIVITY), never wrongly certified (measured: a body of
+ * mass 2e-28 with p ~ 1e-31 in float, whose p^2 underflows to 0). */
 #define EDMI__DW_ERR (EDMI_R(256.0) * EDMI_EPS * EDMI_EPS)
 #define EDMI__DW_TINY (EDMI_R(1024.0) * EDMI__REAL_MIN)
 
@@ -1337,7 +1393,7 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
 static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
                                 edmi_real *err)
 {
-    edmi_real a = pot->a, b = pot->b, m;
+    edmi_real a = pot->a, b = pot->b, m, u;
     edmi__dw x, t;
     edmi_pot_parts pp;
     switch (pot->kind) {
@@ -1384,7 +1440,12 @@ static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw 
                EDMI__DW_TINY;
         return EDMI_OK;
     }
-    *err = EDMI__DW_ERR * m + EDMI__DW_TINY;
+    /* underflow: in s, amplified by |dV/ds| <= 8 M / s (none for V = a s / 2, whose s may be
+     * 0), and in the products after it: the coefficient a (over d for neo-Hooke, inverse) */
+    u = pot->kind == EDMI_POT_HARMONIC && b == EDMI__ZERO
+            ? a
+            : edmi__abs(a) * (EDMI__ONE + EDMI__ONE / d.hi) + EDMI_R(8.0) * m / s.hi;
+    *err = EDMI__DW_ERR * m + EDMI__DW_TINY * (EDMI__ONE + EDMI_R(16.0) * u);
     return EDMI_OK;
 }
 
@@ -1476,7 +1537,8 @@ static edmi_status edmi__delta_v(const edmi_system *sys, const edmi_workspace *w
             mag = sys->body[a].m * (edmi__abs(wg.hi) + edmi__norm(sys->g) *
                                                            (edmi__norm(q1[a]) +
                                                             edmi__norm(sys->body[a].q)));
-            bal->err_v += EDMI__DW_ERR * mag + EDMI__DW_TINY;
+            bal->err_v += EDMI__DW_ERR * mag + EDMI__DW_TINY * (EDMI_R(4.0) * sys->body[a].m +
+                                                                EDMI__ONE);
             bal->size_v += mag;
         }
     return EDMI_OK;
@@ -1499,7 +1561,8 @@ static void edmi__delta_k(const edmi_system *sys, const edmi_real (*p1)[3], edmi
         m2 = edmi__dw_of(EDMI_R(2.0) * bd->m);
         bal->dk = edmi__dw_add(bal->dk, edmi__dw_div(edmi__dw_sub(s1, s0), m2));
         bal->size_k += (s1.hi + s0.hi) / m2.hi;
-        bal->err_k += EDMI__DW_ERR * (s1.hi + s0.hi) / m2.hi + EDMI__DW_TINY;
+        bal->err_k += EDMI__DW_ERR * (s1.hi + s0.hi) / m2.hi + EDMI__DW_TINY / m2.hi +
+                      EDMI__DW_TINY;
     }
 }
 
@@ -1515,7 +1578,8 @@ static int edmi__excess(const edmi__balance *bal, edmi_real *e, edmi_real *margi
      * whose every term is unchanged has an exactly zero change) */
     *margin = t > EDMI__ZERO ? t + t * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN : EDMI__ZERO;
     *e = x.hi;
-    return edmi__finite(x.hi) && edmi__finite(*margin);
+    /* t NaN (an error bound 0/0 or inf - inf at the edge of the range) is no margin of 0 */
+    return edmi__finite(x.hi) && edmi__finite(t) && edmi__finite(*margin);
 }
 
 /* One stored momentum component the energy-aware rounding may move: body a, axis i, value
@@ -1598,7 +1662,8 @@ static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, 
             x.jq[(i + 1) % 3] = work->q1[a][(i + 2) % 3];
             x.jq[(i + 2) % 3] = -work->q1[a][(i + 1) % 3];
             /* |p| >= 2^14 units: the offsets never cross zero or leave the binade by far */
-            if (!(x.u > EDMI__ZERO) || edmi__abs(x.p) < EDMI_R(16384.0) * x.u)
+            if (!(x.u > EDMI__ZERO) || edmi__abs(x.p) < EDMI_R(16384.0) * x.u ||
+                !edmi__finite(edmi__abs(x.p) + EDMI_R(128.0) * x.u)) /* offsets overflow */
                 continue;
             sx = edmi__abs(x.p) * x.u / sys->body[a].m;
             if (n == 3 && sx <= s[2])
@@ -1650,9 +1715,9 @@ static int edmi__round_range(const edmi__comp *coarse, const edmi__comp *fine)
 {
     edmi_real r = edmi__abs(coarse->p * coarse->u / coarse->m2) /
                   edmi__abs(fine->p * fine->u / fine->m2);
-    return r >= (edmi_real)(2 * EDMI__ROUND_MAX) ? EDMI__ROUND_MAX
-           : r <= (edmi_real)(2 * EDMI__ROUND_MIN) ? EDMI__ROUND_MIN
-                                                  : (int)(EDMI__HALF * r) + 1;
+    return r >= (edmi_real)(2 * EDMI__ROUND_MAX)   ? EDMI__ROUND_MAX
+           : !(r > (edmi_real)(2 * EDMI__ROUND_MIN)) ? EDMI__ROUND_MIN /* and NaN: 0/0 */
+                                                     : (int)(EDMI__HALF * r) + 1;
 }
 
 /* The position moves of the energy-aware rounding: body a's components by -1, 0 or +1 unit
@@ -1681,10 +1746,15 @@ static void edmi__qvariant(int v, int o[3])
     o[2] = off[v][2];
 }
 
-/* x - floor(x) for |x| < 2^30. */
+/* x - floor(x) for |x| < 2^30; 0 beyond (and for NaN), where the residue the rounding
+ * search orders its variants by carries no information (it only orders the search: the
+ * guard certifies whatever state it stores). */
 static edmi_real edmi__frac(edmi_real x)
 {
-    edmi_real f = (edmi_real)(long)x;
+    edmi_real f;
+    if (!(edmi__abs(x) < EDMI_R(1073741824.0)))
+        return EDMI__ZERO;
+    f = (edmi_real)(long)x;
     return f > x ? x - f + EDMI__ONE : x - f;
 }
 
@@ -1974,7 +2044,8 @@ static void edmi__pick_qmoves(const edmi_system *sys, const edmi_workspace *work
     edmi__copy3(work->p1[a], qm->jp);
     for (i = 0; i < 3; i++) {
         qm->u[i] = edmi__ulp(work->q1[a][i]);
-        if (edmi__abs(work->q1[a][i]) < EDMI_R(16384.0) * qm->u[i] || !edmi__finite(qm->g[i]))
+        if (edmi__abs(work->q1[a][i]) < EDMI_R(16384.0) * qm->u[i] || !edmi__finite(qm->g[i]) ||
+            !edmi__finite(edmi__abs(work->q1[a][i]) + EDMI_R(2.0) * qm->u[i])) /* near the top */
             qm->u[i] = EDMI__ZERO;
     }
 }
@@ -2123,6 +2194,24 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     return EDMI_OK;
 }
 
+/* A link's end state is one the next step starts from (edmi__prepare_links): a distance
+ * > 0 (or 0 on a linear spring), and a user potential that accepts it. MP evaluates only the
+ * mid-point, and LG's alternate forces only d_n and the mean length, so Newton's solution
+ * can end a link at length 0 (a body landing exactly on its anchor) or outside a user
+ * potential's domain; such a step is a solver failure (EDMI_ERR_DIVERGED), not a state the
+ * next call would refuse. */
+static edmi_status edmi__end_valid(const edmi_link *lk, const edmi_real r1[3])
+{
+    edmi_pot_parts pp;
+    edmi_real d1;
+    if (r1[0] == EDMI__ZERO && r1[1] == EDMI__ZERO && r1[2] == EDMI__ZERO)
+        return edmi__is_linear(&lk->pot) ? EDMI_OK : EDMI_ERR_DIVERGED;
+    if (lk->pot.kind != EDMI_POT_USER)
+        return EDMI_OK;
+    d1 = edmi__norm(r1);
+    return edmi__pot_parts(&lk->pot, d1, &pp);
+}
+
 /* What the converged step did to energy: the ports' and anchors' work (correctly rounded),
  * each link's mean force on its second end (work->lw[j].f: algorithmic force plus dampers),
  * the dampers' dissipation, and bal->w. */
@@ -2140,7 +2229,11 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
         const edmi_link *lk = &sys->link[j];
         edmi_link_ws *w = &work->lw[j];
         edmi_real r1[3];
+        edmi_status st;
         edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        st = edmi__end_valid(lk, r1);
+        if (st != EDMI_OK)
+            return st;
         for (i = 0; i < 3; i++)
             w->f[i] = w->beta * (EDMI__HALF * (w->r0[i] + r1[i]));
     }
@@ -2166,6 +2259,9 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     res->work_ext = edmi__dw_real(wx);
     res->work_anchor = edmi__dw_real(wa);
     bal->w = edmi__two_sum(res->work_ext, res->work_anchor);
+    for (j = 0; j < sys->n_links; j++)
+        if (!edmi__finite3(work->lw[j].f))
+            return EDMI_ERR_RANGE; /* a link force beyond the range */
     return EDMI_OK;
 }
 
@@ -2227,12 +2323,17 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
     edmi_real diss;
     edmi_status st = edmi__step_work(sys, work, dt, res, &bal);
     int guard = edmi__guard_on(&sys->params);
+    if (st == EDMI_OK && !(edmi__finite(res->work_ext) && edmi__finite(res->work_anchor) &&
+                           edmi__finite(res->diss_damping)))
+        st = EDMI_ERR_RANGE; /* a port's work F . dq or a damper's loss beyond the range */
     if (st != EDMI_OK || (!guard && !sys->params.energy_balance))
         return st;
     st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal);
     if (st != EDMI_OK)
         return st;
     res->diss_scheme = edmi__dw_real(bal.scheme);
+    if (!edmi__finite(res->diss_scheme) || !edmi__finite(edmi__dw_real(bal.dv)))
+        return EDMI_ERR_RANGE; /* a link energy (|r|^2, V) beyond the range */
     if (guard) {
         diss = edmi__diss_law(sys, work) + edmi__max(res->diss_damping, EDMI__ZERO);
         st = edmi__guard(sys, work, &bal, diss, res);
@@ -2271,6 +2372,9 @@ static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
         edmi_real r1[3], d1;
         edmi_pot_parts pp;
         edmi__sub(sys->body[lk->a].q, edmi__end_b(lk, w, (const edmi_real (*)[3])work->q1), r1);
+        st = edmi__end_valid(lk, r1); /* an anchor moved onto its body, or out of a domain */
+        if (st != EDMI_OK)
+            return st;
         d1 = edmi__norm(r1);
         w->beta = EDMI__ZERO;
         if (edmi__is_linear(&lk->pot))
@@ -2279,6 +2383,8 @@ static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
             w->beta = pp.v[1] / d1;
         for (i = 0; i < 3; i++)
             w->f[i] = w->beta * r1[i];
+        if (!edmi__finite3(w->f))
+            return EDMI_ERR_RANGE;
     }
     st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal);
     if (st != EDMI_OK)
@@ -2516,9 +2622,13 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     st = edmi__evaluate(sys, work, dt, &r, res);
     if (st != EDMI_OK)
         return st;
-    edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
+    st = edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
+    if (st != EDMI_OK)
+        return st;
     res->residual0 = edmi__scaled_residual(sys, work); /* so measure again with them */
     res->residual = res->residual0;
+    if (!edmi__finite(res->residual0)) /* beyond the precision's range: nothing to solve */
+        return EDMI_ERR_RANGE;
 
     st = edmi__newton(sys, work, dt, res);
     if (st == EDMI_OK)
@@ -2565,17 +2675,26 @@ edmi_status edmi_residual(const edmi_system *sys, edmi_workspace *work, edmi_rea
                           const edmi_real (*q1)[3], const edmi_real (*p1)[3],
                           edmi_real (*rq)[3], edmi_real (*rp)[3], int *lg_switches)
 {
+    int a;
     edmi_status st = edmi__check_trial(sys, work, dt, q1, p1);
     if (st != EDMI_OK)
         return st;
     if (!rq || !rp)
         return EDMI_ERR_NULL;
-    return edmi__residual(sys, work, dt, q1, p1, rq, rp, lg_switches);
+    st = edmi__residual(sys, work, dt, q1, p1, work->rq, work->rp, lg_switches);
+    if (st != EDMI_OK) /* the caller's arrays stay untouched */
+        return st;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(work->rq[a], rq[a]);
+        edmi__copy3(work->rp[a], rp[a]);
+    }
+    return EDMI_OK;
 }
 
 edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                          const edmi_real (*q1)[3], const edmi_real (*p1)[3], edmi_real *kmat)
 {
+    edmi_real lim;
     int n, i, j;
     edmi_status st = edmi__check_trial(sys, work, dt, q1, p1);
     if (st != EDMI_OK)
@@ -2585,6 +2704,15 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
     st = edmi__residual(sys, work, dt, q1, p1, work->rq, work->rp, 0);
     if (st != EDMI_OK)
         return st;
+    /* every block within REAL_MAX / (number of blocks), so no sum of them overflows: kmat is
+     * written only when all of it is finite */
+    lim = EDMI_REAL_MAX / (EDMI_R(2.0) * (edmi_real)(sys->n_links + sys->n_dampers + 1));
+    for (j = 0; j < sys->n_links + sys->n_dampers; j++) {
+        const edmi_real *k = j < sys->n_links ? work->lw[j].k : work->kd[j - sys->n_links];
+        for (i = 0; i < 9; i++)
+            if (!(edmi__abs(k[i]) <= lim))
+                return EDMI_ERR_RANGE;
+    }
     n = 3 * sys->n_bodies;
     for (i = 0; i < n * n; i++)
         kmat[i] = EDMI__ZERO;
@@ -2600,24 +2728,35 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
  * Invariants: H = K + V, J, L, C(t) (sections 2 and 4.1).
  * ======================================================================================== */
 
+static int edmi__invariants_finite(const edmi_invariants *v)
+{
+    return edmi__finite(v->h) && edmi__finite(v->k) && edmi__finite(v->v) &&
+           edmi__finite3(v->j) && edmi__finite3(v->l) && edmi__finite3(v->c);
+}
+
 edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
 {
+    edmi_invariants iv;
     edmi_real mass = EDMI__ZERO, mq[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
+    edmi_status st;
     int a, i;
     if (!sys || !out)
         return EDMI_ERR_NULL;
-    out->k = EDMI__ZERO;
-    out->v = EDMI__ZERO;
+    st = edmi__validate_system(sys);
+    if (st != EDMI_OK)
+        return st;
+    iv.k = EDMI__ZERO;
+    iv.v = EDMI__ZERO;
     for (i = 0; i < 3; i++)
-        out->j[i] = out->l[i] = EDMI__ZERO;
+        iv.j[i] = iv.l[i] = EDMI__ZERO;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real jq[3];
-        out->k += EDMI__HALF * edmi__dot(bd->p, bd->p) / bd->m;
+        iv.k += EDMI__HALF * edmi__dot(bd->p, bd->p) / bd->m;
         edmi__cross(bd->q, bd->p, jq);
         for (i = 0; i < 3; i++) {
-            out->j[i] += jq[i];
-            out->l[i] += bd->p[i];
+            iv.j[i] += jq[i];
+            iv.l[i] += bd->p[i];
             mq[i] += bd->m * bd->q[i];
         }
         mass += bd->m;
@@ -2626,7 +2765,6 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
         const edmi_link *lk = &sys->link[a];
         edmi_real r[3], d;
         edmi_pot_parts pp;
-        edmi_status st;
         edmi__link_vector(sys, lk, r);
         d = edmi__norm(r);
         if (!(d > EDMI__ZERO) && !(d == EDMI__ZERO && edmi__is_linear(&lk->pot)))
@@ -2634,35 +2772,66 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
         st = edmi__pot_parts(&lk->pot, d, &pp);
         if (st != EDMI_OK)
             return st;
-        out->v += pp.v[0];
+        iv.v += pp.v[0];
     }
     if (sys->has_field)
         for (a = 0; a < sys->n_bodies; a++)
-            out->v -= sys->body[a].m * edmi__dot(sys->g, sys->body[a].q);
-    out->h = out->k + out->v;
+            iv.v -= sys->body[a].m * edmi__dot(sys->g, sys->body[a].q);
+    iv.h = iv.k + iv.v;
     for (i = 0; i < 3; i++)
-        out->c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * out->l[i]) / mass : EDMI__ZERO;
+        iv.c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * iv.l[i]) / mass : EDMI__ZERO;
+    if (!edmi__invariants_finite(&iv)) /* beyond the precision's range */
+        return EDMI_ERR_RANGE;
+    *out = iv;
     return EDMI_OK;
+}
+
+/* Every derivative of every part finite (a result beyond the range is not a result). */
+static int edmi__parts_finite(const edmi_pot_parts *o)
+{
+    int i;
+    for (i = 0; i < 5; i++)
+        if (!edmi__finite(o->v[i]) || !edmi__finite(o->c[i]) || !edmi__finite(o->e[i]) ||
+            !edmi__finite(o->sp[i]) || !edmi__finite(o->sm[i]))
+            return 0;
+    return 1;
 }
 
 edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts *out)
 {
+    edmi_pot_parts pp;
+    edmi_status st;
     if (!pot || !out)
         return EDMI_ERR_NULL;
     if (!edmi__pot_valid(pot) || !edmi__finite(r) || !(r > EDMI__ZERO))
         return EDMI_ERR_PARAM;
-    return edmi__pot_parts(pot, r, out);
+    st = edmi__pot_parts(pot, r, &pp);
+    if (st != EDMI_OK)
+        return st;
+    if (!edmi__parts_finite(&pp))
+        return EDMI_ERR_RANGE;
+    *out = pp;
+    return EDMI_OK;
 }
 
 edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real d1,
                              edmi_real *dd, edmi_real *dd_d1)
 {
+    edmi_real x, x1;
+    edmi_status st;
     if (!pot || !dd || !dd_d1)
         return EDMI_ERR_NULL;
     if (!edmi__pot_valid(pot) || !edmi__finite(d0) || !edmi__finite(d1) ||
         !(d0 > EDMI__ZERO) || !(d1 > EDMI__ZERO))
         return EDMI_ERR_PARAM;
-    return edmi__divdiff(pot, d0, d1, dd, dd_d1);
+    st = edmi__divdiff(pot, d0, d1, &x, &x1);
+    if (st != EDMI_OK)
+        return st;
+    if (!edmi__finite(x) || !edmi__finite(x1))
+        return EDMI_ERR_RANGE;
+    *dd = x;
+    *dd_d1 = x1;
+    return EDMI_OK;
 }
 
 /* ==========================================================================================
@@ -2700,6 +2869,8 @@ edmi_status edmi_set_params(edmi_system *sys, const edmi_params *params)
         return EDMI_ERR_NULL;
     if (!edmi__params_valid(params))
         return EDMI_ERR_PARAM;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
     sys->params = *params;
     return EDMI_OK;
 }
@@ -2734,7 +2905,7 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
         return EDMI_ERR_MASS;
     if (!edmi__finite3(q) || !edmi__finite3(p))
         return EDMI_ERR_NONFINITE;
-    if (sys->n_bodies >= EDMI_MAX_BODIES)
+    if (!edmi__counts_valid(sys) || sys->n_bodies >= EDMI_MAX_BODIES)
         return EDMI_ERR_CAPACITY;
     bd = &sys->body[sys->n_bodies];
     bd->m = m;
@@ -2768,6 +2939,8 @@ static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_rea
     static const edmi_real origin[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
     if (!sys || !pot || (b == EDMI_ANCHOR && !x))
         return EDMI_ERR_NULL;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
     if (!edmi__link_ends_valid(sys->n_bodies, a, b))
         return EDMI_ERR_INDEX;
     if (!edmi__pot_valid(pot))
@@ -2805,6 +2978,8 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3])
         return EDMI_ERR_NULL;
     if (!edmi__finite3(g))
         return EDMI_ERR_NONFINITE;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
     edmi__copy3(g, sys->g);
     sys->has_field = 1;
     return EDMI_OK;
@@ -2814,6 +2989,8 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
 {
     if (!sys)
         return EDMI_ERR_NULL;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
     if (link < 0 || link >= sys->n_links)
         return EDMI_ERR_INDEX;
     if (!edmi__finite(c) || c < EDMI__ZERO)
@@ -2833,13 +3010,16 @@ edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3])
     int i;
     if (!sys || !x)
         return EDMI_ERR_NULL;
-    if (link < 0 || link >= sys->n_links || sys->link[link].b != EDMI_ANCHOR ||
-        sys->n_moving < 0 || sys->n_moving >= EDMI_MAX_LINKS)
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
+    if (link < 0 || link >= sys->n_links || sys->link[link].b != EDMI_ANCHOR)
         return EDMI_ERR_INDEX;
     if (!edmi__finite3(x))
         return EDMI_ERR_NONFINITE;
     for (i = 0; i < sys->n_moving && sys->moving[i] != link; i++)
         ;
+    if (i == sys->n_moving && i >= EDMI_MAX_LINKS) /* a list the caller overwrote */
+        return EDMI_ERR_CAPACITY;
     if (i == sys->n_moving)
         sys->moving[sys->n_moving++] = link;
     edmi__copy3(x, sys->anchor_next[link]);
@@ -2851,12 +3031,16 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
     int i;
     if (!sys || !f)
         return EDMI_ERR_NULL;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
     if (a < 0 || a >= sys->n_bodies)
         return EDMI_ERR_INDEX;
     if (!edmi__finite3(f))
         return EDMI_ERR_NONFINITE;
     for (i = 0; i < sys->n_forced && sys->forced[i] != a; i++)
         ;
+    if (i == sys->n_forced && i >= EDMI_MAX_BODIES) /* a list the caller overwrote */
+        return EDMI_ERR_CAPACITY;
     if (i == sys->n_forced)
         sys->forced[sys->n_forced++] = a;
     edmi__copy3(f, sys->force[a]);
@@ -2991,6 +3175,7 @@ const char *edmi_status_name(edmi_status s)
     case EDMI_ERR_NO_CONVERGENCE: return "EDMI_ERR_NO_CONVERGENCE";
     case EDMI_ERR_DIVERGED: return "EDMI_ERR_DIVERGED";
     case EDMI_ERR_PASSIVITY: return "EDMI_ERR_PASSIVITY";
+    case EDMI_ERR_RANGE: return "EDMI_ERR_RANGE";
     default: return "EDMI_ERR_UNKNOWN";
     }
 }

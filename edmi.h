@@ -132,9 +132,13 @@ typedef enum edmi_status {
     EDMI_ERR_DIVERGED,       /*!< Newton left the potentials' domain (a distance 0, a
                                   non-finite value, a user callback refusing) and halving the
                                   correction did not bring it back within l_max iterations */
-    EDMI_ERR_PASSIVITY       /*!< the guard could not certify H_n+1 - H_n <= work (values
+    EDMI_ERR_PASSIVITY,      /*!< the guard could not certify H_n+1 - H_n <= work (values
                                   beyond the range its double-word arithmetic covers, or an
                                   excess larger than the kinetic energy it may remove) */
+    EDMI_ERR_RANGE           /*!< a result is beyond the precision's range although every
+                                  input is finite: a step's scale (|q| + dt |p| / m), its
+                                  residual, work or energy balance, an invariant, a
+                                  potential's derivative overflows (README, "Limits") */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */
@@ -421,7 +425,9 @@ edmi_params edmi_default_params(void);
 edmi_status edmi_init(edmi_system *sys, const edmi_params *params);
 
 /** \brief Replace the parameters (e.g. switch scheme between steps).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM, EDMI_ERR_CAPACITY (a count in sys out of
+ *          range: every call that reads sys checks n_bodies, n_links, n_dampers, n_forced
+ *          and n_moving first) */
 edmi_status edmi_set_params(edmi_system *sys, const edmi_params *params);
 
 /** \brief Append a body.
@@ -445,7 +451,7 @@ edmi_status edmi_add_anchor(edmi_system *sys, int a, const edmi_real x[3],
                             const edmi_potential *pot, int *index);
 
 /** \brief Set a uniform field: every body feels the constant force m g (adds V = -sum m g.q).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
 edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3]);
 
 /** \brief Put a linear viscous damper on a link: it pushes the link's ends apart or together
@@ -459,12 +465,12 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
  *  The work this motion does on the system is reported in edmi_step_result.work_anchor and
  *  the guard's inequality includes it. Call again before every step the anchor moves in.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link, or not an anchor link),
- *          EDMI_ERR_NONFINITE */
+ *          EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
 edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3]);
 
 /** \brief Set body a's external force port; the force is held constant over each step until
  *  set again (its work F . (q_n+1 - q_n) is reported in edmi_step_result.work_ext).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_NONFINITE */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
 edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3]);
 
 /** \brief Replace the system by a scene (t = 0, no force ports). Everything is validated
@@ -495,8 +501,11 @@ edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
  *  stores the fallback state instead and returns EDMI_OK (res->stop == EDMI_STOP_FALLBACK).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
  *          EDMI_ERR_CAPACITY (corrupted counts), EDMI_ERR_INDEX, EDMI_ERR_PARAM,
- *          EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR, EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED,
- *          EDMI_ERR_PASSIVITY */
+ *          EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR, EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED
+ *          (also: Newton's solution ends a link at length 0 or outside a user potential's
+ *          domain, where the next step could not start), EDMI_ERR_PASSIVITY, EDMI_ERR_RANGE
+ *          (not a solver failure: the fallback does not take it). EDMI_ERR_DT also when
+ *          t + dt overflows. */
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res);
 
@@ -504,20 +513,24 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
  * Measure it
  * ---------------------------------------------------------------------------------------- */
 
-/** \brief H, K, V, J, L and C(t) of the current state.
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_COINCIDENT (a potential undefined at d = 0),
- *          EDMI_ERR_DIVERGED (a user potential refused a distance) */
+/** \brief H, K, V, J, L and C(t) of the current state. Checks the system as edmi_step
+ *  does (a caller may have written its fields); *out is written only on success.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_CAPACITY, EDMI_ERR_PARAM, EDMI_ERR_MASS,
+ *          EDMI_ERR_NONFINITE, EDMI_ERR_INDEX, EDMI_ERR_COINCIDENT (a potential undefined at
+ *          d = 0), EDMI_ERR_DIVERGED (a user potential refused a distance), EDMI_ERR_RANGE */
 edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out);
 
 /** \brief Derivatives 0..4 of the split parts of a potential at r > 0.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM (invalid potential or r <= 0),
- *          EDMI_ERR_DIVERGED (user callback refused r) */
+ *          EDMI_ERR_DIVERGED (user callback refused r), EDMI_ERR_RANGE (a derivative is not
+ *          finite at r: beyond the range); *out is written only on success */
 edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts *out);
 
 /** \brief Closed-form divided difference [V(d1)-V(d0)]/(d1-d0) and its d1-derivative,
  *  finite at d1 == d0 (then V'(d0) and V''(d0)/2).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM (invalid, d <= 0, or a user potential
- *          without dd), EDMI_ERR_DIVERGED (user callback refused) */
+ *          without dd), EDMI_ERR_DIVERGED (user callback refused), EDMI_ERR_RANGE;
+ *          the outputs are written only on success */
 edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real d1,
                              edmi_real *dd, edmi_real *dd_d1);
 
@@ -528,14 +541,17 @@ edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real 
 /** \brief Residuals R_q, R_p of the scheme at a trial end state (q1, p1) for a step dt from
  *  the system's current state (arrays of sys->n_bodies rows). Does not change sys.
  *  \param[out] lg_switches links on the LG alternate force (may be NULL)
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_COINCIDENT, EDMI_ERR_DIVERGED */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, the system's errors as edmi_step() checks
+ *          them (EDMI_ERR_CAPACITY ... EDMI_ERR_PARAM), EDMI_ERR_COINCIDENT,
+ *          EDMI_ERR_DIVERGED; rq, rp and *lg_switches are written only on success */
 edmi_status edmi_residual(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                           const edmi_real (*q1)[3], const edmi_real (*p1)[3],
                           edmi_real (*rq)[3], edmi_real (*rp)[3], int *lg_switches);
 
 /** \brief Consistent tangent dR_p/dq1 at the trial end state, dense row-major
  *  (3 n_bodies)^2 into kmat (dR_q/dq1 = I and dR_p/dp1 = I, dR_q/dp1 = -dt/(2m) I are exact).
- *  \return as edmi_residual() */
+ *  \return as edmi_residual(), and EDMI_ERR_RANGE (a block beyond the range); kmat is
+ *          written only on success */
 edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                          const edmi_real (*q1)[3], const edmi_real (*p1)[3], edmi_real *kmat);
 

@@ -4,6 +4,7 @@
 
 void suite_potentials(void); /* test_potentials.c: derivatives, splits, divided differences */
 void suite_invalid(void);    /* test_invalid.c: every bad input, system unchanged (memcmp) */
+void suite_fuzz_findings(void); /* test_fuzz_findings.c: the API fuzzer's findings, fixed */
 void suite_tangent(void);    /* test_tangent.c: consistent tangent vs finite differences, Newton */
 void suite_energy(void);     /* test_energy.c: per-step energy laws, J/L/C conservation */
 void suite_orders(void);     /* test_orders.c: observed convergence orders */

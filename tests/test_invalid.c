@@ -145,9 +145,10 @@ static void ti_status_names(void)
         "EDMI_OK",           "EDMI_ERR_NULL",          "EDMI_ERR_DT",
         "EDMI_ERR_MASS",     "EDMI_ERR_NONFINITE",     "EDMI_ERR_CAPACITY",
         "EDMI_ERR_INDEX",    "EDMI_ERR_PARAM",         "EDMI_ERR_COINCIDENT",
-        "EDMI_ERR_SINGULAR", "EDMI_ERR_NO_CONVERGENCE", "EDMI_ERR_DIVERGED"};
+        "EDMI_ERR_SINGULAR", "EDMI_ERR_NO_CONVERGENCE", "EDMI_ERR_DIVERGED",
+        "EDMI_ERR_PASSIVITY", "EDMI_ERR_RANGE"};
     int n = (int)(sizeof want / sizeof want[0]), i, j;
-    CHECK(n == (int)EDMI_ERR_DIVERGED + 1);
+    CHECK(n == (int)EDMI_ERR_RANGE + 1);
     for (i = 0; i < n; i++) {
         const char *s = edmi_status_name((edmi_status)i);
         if (!CHECK(s != 0))

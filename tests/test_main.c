@@ -8,6 +8,7 @@ int main(void)
                                        : "edmi tests, EDMI_REAL=float\n");
     suite_potentials();
     suite_invalid();
+    suite_fuzz_findings();
     suite_tangent();
     suite_energy();
     suite_orders();

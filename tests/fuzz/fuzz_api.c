@@ -1,0 +1,768 @@
+/* libFuzzer harness over edmi's whole public API (one source, built once per precision).
+ *
+ * The input bytes are a program: parameters, a scene (bodies, every potential kind with
+ * random, extreme and non-finite parameters, user potentials with limited domains or
+ * non-finite values, pairs, anchors, dampers, a field, ports), then a sequence of calls to
+ * every public function, including direct writes to the system's fields as firmware makes
+ * them (a state, a count overwritten). After every call it checks the library's promise:
+ *   - the status is a member of edmi_status;
+ *   - on an error, the system and every output are byte-identical to before the call;
+ *   - on success of edmi_step: a finite state and clock, iterations within l_max, a result
+ *     whose fields are finite, and with the guard on the passivity inequality
+ *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor on the stored values,
+ *     evaluated in long double by tests/passive.c (no library code) within its own bound;
+ *   - on success of edmi_invariants_of, edmi_pot_eval, edmi_pot_divdiff, edmi_residual,
+ *     edmi_tangent: finite outputs.
+ * A broken promise prints what broke and aborts, so libFuzzer stores the input.
+ * tests/fuzz/replay.c runs the same function over stored inputs without libFuzzer. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+
+#include "../../edmi.h"
+#include "../passive.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+/* ---- the input as a stream of bytes (zeros once it runs out) ---------------------------- */
+
+typedef struct fz_in {
+    const uint8_t *d;
+    size_t n, i;
+} fz_in;
+
+static unsigned fz_u8(fz_in *in) { return in->i < in->n ? in->d[in->i++] : 0u; }
+
+static unsigned long fz_bits(fz_in *in, int bytes)
+{
+    unsigned long v = 0;
+    int k;
+    for (k = 0; k < bytes; k++)
+        v = (v << 8) | fz_u8(in);
+    return v;
+}
+
+static int fz_done(const fz_in *in) { return in->i >= in->n; }
+
+/* A real: mostly moderate values a scene would use, sometimes any exponent, raw bit
+ * patterns (NaN, infinities, subnormals) and the format's edge values. */
+static edmi_real fz_real(fz_in *in)
+{
+    static const double table[16] = {0.0, 1.0, -1.0, 0.5, 2.0, 1e-3, 10.0, 0.1,
+                                     -0.0, 100.0, 1e-6, 3.0, 0.25, -2.0, 1e3, 1e6};
+    unsigned sel = fz_u8(in);
+    switch (sel >> 5) {
+    case 0:
+        return (edmi_real)table[sel & 15u];
+    case 1:
+    case 2:
+    case 3:
+    case 4: {
+        int m = (int)(signed char)fz_u8(in);
+        int e = (int)(fz_u8(in) % 17u) - 8;
+        return (edmi_real)ldexp((double)m / 16.0, e);
+    }
+    case 5: { /* any exponent of the format */
+        int lo = edmi_is_double_precision() ? -1080 : -155;
+        int span = edmi_is_double_precision() ? 2110 : 290;
+        double m = 1.0 + (double)fz_u8(in) / 256.0;
+        int e = lo + (int)(fz_bits(in, 2) % (unsigned long)span);
+        return (edmi_real)((sel & 1u) ? -ldexp(m, e) : ldexp(m, e));
+    }
+    case 6: { /* raw bits */
+        edmi_real x;
+        if (sizeof x == 4) {
+            uint32_t b = (uint32_t)fz_bits(in, 4);
+            memcpy(&x, &b, sizeof x);
+        } else {
+            uint64_t b = ((uint64_t)fz_bits(in, 4) << 32) | (uint64_t)fz_bits(in, 4);
+            memcpy(&x, &b, sizeof x);
+        }
+        return x;
+    }
+    default: {
+        switch (sel & 15u) {
+        case 0: return (edmi_real)INFINITY;
+        case 1: return (edmi_real)-INFINITY;
+        case 2: return (edmi_real)NAN;
+        case 3: return EDMI_REAL_MAX;
+        case 4: return -EDMI_REAL_MAX;
+        case 5: return edmi_is_double_precision() ? (edmi_real)DBL_MIN : (edmi_real)FLT_MIN;
+        case 6: return edmi_is_double_precision() ? (edmi_real)4.9e-324 : (edmi_real)1.4e-45f;
+        case 7: return EDMI_EPS;
+        case 8: return (edmi_real)1.9e19;
+        case 9: return (edmi_real)1e-20;
+        case 10: return (edmi_real)(edmi_is_double_precision() ? 1.4e154 : 1e30);
+        case 11: return (edmi_real)(edmi_is_double_precision() ? 1e-155 : 1e-30);
+        case 12: return (edmi_real)735.29;
+        case 13: return (edmi_real)1e12;
+        case 14: return (edmi_real)1e-12;
+        default: return (edmi_real)-1e-300;
+        }
+    }
+    }
+}
+
+/* A real meant to be positive (masses, stiffnesses, steps): |x| most of the time. */
+static edmi_real fz_pos(fz_in *in)
+{
+    unsigned s = fz_u8(in);
+    edmi_real x = fz_real(in);
+    return (s & 7u) ? (edmi_real)fabs((double)x) : x;
+}
+
+static void fz_vec(fz_in *in, edmi_real v[3])
+{
+    int i;
+    for (i = 0; i < 3; i++)
+        v[i] = fz_real(in);
+}
+
+/* An int near the valid range of a count or index n, sometimes far outside it. */
+static int fz_index(fz_in *in, int n)
+{
+    unsigned s = fz_u8(in);
+    if (s < 224u)
+        return n > 0 ? (int)(s % (unsigned)n) : 0;
+    switch (s & 7u) {
+    case 0: return -1;
+    case 1: return n;
+    case 2: return n + 1;
+    case 3: return -2;
+    case 4: return 1 << 30;
+    case 5: return -(1 << 30);
+    case 6: return EDMI_ANCHOR;
+    default: return (int)fz_bits(in, 1) - 128;
+    }
+}
+
+/* ---- user potentials -------------------------------------------------------------------- */
+
+typedef struct fz_user {
+    int kind;        /* 0: harmonic; 1: harmonic refusing r outside [lo, hi]; 2: NaN beyond hi */
+    double k, r0, lo, hi;
+} fz_user;
+
+#define FZ_MAX_USER 8 /* per input; never reused, so a live link's ctx never changes */
+static fz_user fz_users[FZ_MAX_USER];
+
+static int fz_user_fn(void *ctx, edmi_real r, edmi_pot_parts *o)
+{
+    const fz_user *u = (const fz_user *)ctx;
+    double x = (double)r, k = u->k, s = x - u->r0;
+    int i;
+    if (u->kind == 1 && (x < u->lo || x > u->hi))
+        return 1;
+    for (i = 0; i < 5; i++)
+        o->c[i] = o->e[i] = o->sp[i] = o->sm[i] = (edmi_real)0;
+    o->c[0] = (edmi_real)(0.5 * k * s * s);
+    o->c[1] = (edmi_real)(k * s);
+    o->c[2] = (edmi_real)k;
+    for (i = 0; i < 5; i++)
+        o->sp[i] = o->c[i];
+    if (u->kind == 2 && x > u->hi)
+        o->c[1] = (edmi_real)NAN;
+    return 0;
+}
+
+static int fz_user_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1)
+{
+    const fz_user *u = (const fz_user *)ctx;
+    double a = (double)d0, b = (double)d1;
+    if (u->kind == 1 && (a < u->lo || a > u->hi || b < u->lo || b > u->hi))
+        return 1;
+    *dd = (edmi_real)(u->k * (0.5 * (a + b) - u->r0));
+    *dd_d1 = (edmi_real)(0.5 * u->k);
+    return 0;
+}
+
+static edmi_potential fz_potential(fz_in *in, int *n_user)
+{
+    unsigned kind = fz_u8(in) % 8u;
+    edmi_real a = fz_pos(in), b = fz_pos(in);
+    edmi_potential p;
+    switch (kind) {
+    case 0: return edmi_pot_harmonic(a, b);
+    case 1: return edmi_pot_quartic(a, b);
+    case 2: return edmi_pot_neo_hooke(a, b);
+    case 3: return edmi_pot_lj(a, b);
+    case 4: return edmi_pot_inverse(fz_real(in));
+    case 5:
+    case 6: {
+        fz_user *u;
+        if (*n_user >= FZ_MAX_USER)
+            return edmi_pot_harmonic(a, b);
+        u = &fz_users[(*n_user)++];
+        u->kind = (int)(fz_u8(in) % 3u);
+        u->k = (double)a;
+        u->r0 = (double)b;
+        u->lo = (double)fz_pos(in);
+        u->hi = u->lo + (double)fz_pos(in);
+        p = edmi_pot_user((fz_u8(in) & 1u) ? fz_user_fn : 0, (fz_u8(in) & 1u) ? fz_user_dd : 0,
+                          u);
+        if (kind == 6 && !p.fn)
+            p.fn = fz_user_fn;
+        return p;
+    }
+    default: /* an invalid kind */
+        p = edmi_pot_harmonic(a, b);
+        p.kind = (edmi_pot_kind)(int)(fz_u8(in) % 2u ? 6 : -1);
+        return p;
+    }
+}
+
+static edmi_params fz_params(fz_in *in)
+{
+    edmi_params p = edmi_default_params();
+    unsigned s = fz_u8(in), f = fz_u8(in);
+    p.scheme = (edmi_scheme)(int)(s % 5u);
+    if ((s & 0xf0u) == 0xf0u)
+        p.scheme = (edmi_scheme)(int)(s % 8u); /* sometimes out of range */
+    p.lg_form = (edmi_lg_form)(int)(f & 1u);
+    p.lg_alt = (edmi_lg_alt)(int)((f >> 1) % 5u);
+    p.guard = (edmi_guard_mode)(int)((f >> 4) % 3u);
+    p.fallback = (int)((f >> 6) & 1u);
+    p.energy_balance = (int)((f >> 7) & 1u);
+    s = fz_u8(in);
+    if (s & 1u)
+        p.tol_q = fz_real(in);
+    if (s & 2u)
+        p.tol_r = fz_real(in);
+    if (s & 4u)
+        p.tol_a = fz_real(in);
+    if (s & 8u)
+        p.l_max = (int)(fz_u8(in) % 40u) - 2;
+    if ((s & 0xf0u) == 0xf0u) /* an out-of-range enum */
+        p.guard = (edmi_guard_mode)7;
+    return p;
+}
+
+/* ---- the checks ------------------------------------------------------------------------- */
+
+static void fz_fail(const char *what, const char *call, edmi_status st)
+{
+    fprintf(stderr, "edmi fuzz (%s): %s after %s (status %d %s)\n",
+            edmi_is_double_precision() ? "double" : "float", what, call, (int)st,
+            edmi_status_name(st));
+    abort();
+}
+
+static int fz_finite(edmi_real x) { return x - x == x - x; }
+
+static int fz_finite_n(const edmi_real *x, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!fz_finite(x[i]))
+            return 0;
+    return 1;
+}
+
+static void fz_status(edmi_status st, const char *call)
+{
+    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_RANGE)
+        fz_fail("status out of range", call, st);
+}
+
+/* On error: nothing the caller owns changed (sys and the output buffer). */
+static void fz_unchanged(edmi_status st, const char *call, const edmi_system *sys,
+                         const edmi_system *before, const void *out, const void *out_before,
+                         size_t out_size)
+{
+    fz_status(st, call);
+    if (st == EDMI_OK)
+        return;
+    if (sys && memcmp(sys, before, sizeof *sys) != 0)
+        fz_fail("system changed on error", call, st);
+    if (out && memcmp(out, out_before, out_size) != 0)
+        fz_fail("output written on error", call, st);
+}
+
+static int fz_guard_on(const edmi_params *p)
+{
+    return p->guard == EDMI_GUARD_ON ||
+           (p->guard == EDMI_GUARD_AUTO &&
+            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+}
+
+static int fz_has_user(const edmi_system *s)
+{
+    int j;
+    for (j = 0; j < s->n_links; j++)
+        if (s->link[j].pot.kind == EDMI_POT_USER)
+            return 1;
+    return 0;
+}
+
+/* The state the library hands back after a successful step. */
+static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_real dt,
+                          const edmi_step_result *res)
+{
+    int a;
+    tp_delta d;
+    for (a = 0; a < s1->n_bodies; a++)
+        if (!fz_finite_n(s1->body[a].q, 3) || !fz_finite_n(s1->body[a].p, 3))
+            fz_fail("non-finite state", "edmi_step", EDMI_OK);
+    if (!fz_finite(s1->t) || !fz_finite(s1->t_carry))
+        fz_fail("clock not finite", "edmi_step", EDMI_OK);
+    { /* compensated: t - t_carry advances by dt (t itself may step back by one unit when
+       * dt is below its spacing and the carry above dt) */
+        long double t0 = (long double)s0->t - (long double)s0->t_carry;
+        long double t1 = (long double)s1->t - (long double)s1->t_carry;
+        long double e = t1 - t0 - (long double)dt;
+        if (e < 0)
+            e = -e;
+        if (!(e <= 4.0L * (long double)EDMI_EPS * (fabsl(t0) + fabsl(t1) + (long double)dt)))
+            fz_fail("clock not advanced by dt", "edmi_step", EDMI_OK);
+    }
+    for (a = 0; a < s1->n_links; a++)
+        if (!fz_finite_n(s1->link_force[a], 3))
+            fz_fail("non-finite link force", "edmi_step", EDMI_OK);
+    if (res->iterations < 0 || res->iterations > s0->params.l_max)
+        fz_fail("iterations outside [0, l_max]", "edmi_step", EDMI_OK);
+    if ((int)res->stop < (int)EDMI_STOP_CONVERGED || (int)res->stop > (int)EDMI_STOP_FALLBACK)
+        fz_fail("stop out of range", "edmi_step", EDMI_OK);
+    if (!fz_finite(res->work_ext) || !fz_finite(res->work_anchor) ||
+        !fz_finite(res->diss_damping) || !fz_finite(res->diss_scheme) || !fz_finite(res->dh) ||
+        !fz_finite(res->diss_guard)) {
+        fprintf(stderr, "work_ext %g work_anchor %g diss_damping %g diss_scheme %g dh %g "
+                        "diss_guard %g\n", (double)res->work_ext, (double)res->work_anchor,
+                (double)res->diss_damping, (double)res->diss_scheme, (double)res->dh,
+                (double)res->diss_guard);
+        fz_fail("non-finite energy balance", "edmi_step", EDMI_OK);
+    }
+    if (!(res->diss_damping >= 0))
+        fz_fail("negative damper dissipation", "edmi_step", EDMI_OK);
+    if (!fz_guard_on(&s0->params) || fz_has_user(s0))
+        return;
+    if (!tp_delta_h(s0, s1, res, &d))
+        fz_fail("stored state cannot be evaluated in long double", "edmi_step", EDMI_OK);
+    if (d.dh - d.w > d.err) {
+        fprintf(stderr, "dH = %.21Lg, work = %.21Lg, bound %.3Lg\n", d.dh, d.w, d.err);
+        fz_fail("passivity: H rose by more than the work", "edmi_step", EDMI_OK);
+    }
+}
+
+/* FZ_TRACE=1 in the environment prints the system before every step (triage). */
+static int fz_trace = -1;
+
+static void fz_print_sys(const edmi_system *s, edmi_real dt)
+{
+    int a, j;
+    fprintf(stderr, "step dt=%.9g t=%.9g scheme=%d guard=%d lg_form=%d alt=%d tol_q=%g "
+                    "tol_r=%g tol_a=%g l_max=%d fallback=%d eb=%d\n",
+            (double)dt, (double)s->t, (int)s->params.scheme, (int)s->params.guard,
+            (int)s->params.lg_form, (int)s->params.lg_alt, (double)s->params.tol_q,
+            (double)s->params.tol_r, (double)s->params.tol_a, s->params.l_max,
+            s->params.fallback, s->params.energy_balance);
+    for (a = 0; a < s->n_bodies; a++)
+        fprintf(stderr, "  body %d m=%.9g q=(%.9g %.9g %.9g) p=(%.9g %.9g %.9g)\n", a,
+                (double)s->body[a].m, (double)s->body[a].q[0], (double)s->body[a].q[1],
+                (double)s->body[a].q[2], (double)s->body[a].p[0], (double)s->body[a].p[1],
+                (double)s->body[a].p[2]);
+    for (j = 0; j < s->n_links; j++)
+        fprintf(stderr, "  link %d %d-%d kind=%d a=%.9g b=%.9g anchor=(%.9g %.9g %.9g)\n", j,
+                s->link[j].a, s->link[j].b, (int)s->link[j].pot.kind, (double)s->link[j].pot.a,
+                (double)s->link[j].pot.b, (double)s->link[j].anchor[0],
+                (double)s->link[j].anchor[1], (double)s->link[j].anchor[2]);
+    for (j = 0; j < s->n_dampers; j++)
+        fprintf(stderr, "  damper link %d c=%.9g\n", s->damper[j].link, (double)s->damper[j].c);
+    for (j = 0; j < s->n_forced; j++)
+        fprintf(stderr, "  force on %d (%.9g %.9g %.9g)\n", s->forced[j],
+                (double)s->force[s->forced[j]][0], (double)s->force[s->forced[j]][1],
+                (double)s->force[s->forced[j]][2]);
+    for (j = 0; j < s->n_moving; j++)
+        fprintf(stderr, "  anchor %d moves to (%.9g %.9g %.9g)\n", s->moving[j],
+                (double)s->anchor_next[s->moving[j]][0], (double)s->anchor_next[s->moving[j]][1],
+                (double)s->anchor_next[s->moving[j]][2]);
+    if (s->has_field)
+        fprintf(stderr, "  field (%.9g %.9g %.9g)\n", (double)s->g[0], (double)s->g[1],
+                (double)s->g[2]);
+}
+
+/* ---- the program ------------------------------------------------------------------------ */
+
+#define FZ_N3 (3 * EDMI_MAX_BODIES)
+
+static edmi_system fz_sys, fz_before;
+static edmi_workspace fz_work;
+
+static void fz_build(fz_in *in, edmi_system *sys, int *n_user)
+{
+    int nb = (int)(fz_u8(in) % (unsigned)(EDMI_MAX_BODIES + 2)), nl, k;
+    for (k = 0; k < nb; k++) {
+        edmi_real q[3], p[3], m = fz_pos(in);
+        fz_vec(in, q);
+        fz_vec(in, p);
+        (void)edmi_add_body(sys, m, q, p, 0);
+    }
+    nl = (int)(fz_u8(in) % (unsigned)(EDMI_MAX_LINKS + 2));
+    for (k = 0; k < nl; k++) {
+        edmi_potential pot = fz_potential(in, n_user);
+        int a = fz_index(in, sys->n_bodies);
+        if (fz_u8(in) & 1u) {
+            edmi_real x[3];
+            fz_vec(in, x);
+            (void)edmi_add_anchor(sys, a, x, &pot, 0);
+        } else {
+            (void)edmi_add_pair(sys, a, fz_index(in, sys->n_bodies), &pot, 0);
+        }
+    }
+}
+
+static void fz_op_step(fz_in *in, int *steps)
+{
+    edmi_step_result res;
+    edmi_real dt = fz_pos(in);
+    edmi_status st;
+    if (fz_u8(in) < 192u) /* mostly a step a scene would take */
+        dt = (edmi_real)ldexp(1.0 + (double)fz_u8(in) / 256.0, (int)(fz_u8(in) % 16u) - 12);
+    if (fz_trace < 0)
+        fz_trace = getenv("FZ_TRACE") != 0;
+    if (fz_trace)
+        fz_print_sys(&fz_sys, dt);
+    memcpy(&fz_before, &fz_sys, sizeof fz_sys);
+    st = edmi_step(&fz_sys, &fz_work, dt, &res);
+    if (fz_trace)
+        fprintf(stderr, "  -> %s, %d iterations, stop %d, dh %.17g diss_guard %.17g "
+                        "diss_scheme %.17g guard_action %u\n",
+                edmi_status_name(st), res.iterations, (int)res.stop, (double)res.dh,
+                (double)res.diss_guard, (double)res.diss_scheme, res.guard_action);
+    fz_unchanged(st, "edmi_step", &fz_sys, &fz_before, 0, 0, 0);
+    if (st == EDMI_OK)
+        fz_check_step(&fz_before, &fz_sys, dt, &res);
+    ++*steps;
+}
+
+static void fz_op_measure(fz_in *in)
+{
+    edmi_invariants inv, inv0;
+    edmi_status st;
+    memset(&inv, 0xa5, sizeof inv);
+    memcpy(&inv0, &inv, sizeof inv);
+    memcpy(&fz_before, &fz_sys, sizeof fz_sys);
+    st = edmi_invariants_of(&fz_sys, (fz_u8(in) & 15u) ? &inv : 0);
+    fz_unchanged(st, "edmi_invariants_of", &fz_sys, &fz_before, &inv, &inv0, sizeof inv);
+    if (st == EDMI_OK && (!fz_finite(inv.h) || !fz_finite(inv.k) || !fz_finite(inv.v) ||
+                          !fz_finite_n(inv.j, 3) || !fz_finite_n(inv.l, 3) ||
+                          !fz_finite_n(inv.c, 3)))
+        fz_fail("non-finite invariants", "edmi_invariants_of", st);
+}
+
+/* A trial end state: the current state moved a little (or a lot). */
+static void fz_trial(fz_in *in, edmi_real (*q1)[3], edmi_real (*p1)[3])
+{
+    int a, i;
+    unsigned how = fz_u8(in);
+    for (a = 0; a < EDMI_MAX_BODIES; a++)
+        for (i = 0; i < 3; i++) {
+            q1[a][i] = fz_sys.body[a].q[i];
+            p1[a][i] = fz_sys.body[a].p[i];
+            if (how & 1u)
+                q1[a][i] += fz_real(in) * (edmi_real)1e-3;
+            if (how & 2u)
+                p1[a][i] += fz_real(in);
+        }
+    if (how & 4u) { /* a trial where one link ends at length 0 */
+        int j = fz_index(in, fz_sys.n_links);
+        if (j >= 0 && j < fz_sys.n_links) {
+            const edmi_link *lk = &fz_sys.link[j];
+            if (lk->a >= 0 && lk->a < EDMI_MAX_BODIES) {
+                if (lk->b == EDMI_ANCHOR)
+                    memcpy(q1[lk->a], lk->anchor, sizeof q1[lk->a]);
+                else if (lk->b >= 0 && lk->b < EDMI_MAX_BODIES)
+                    memcpy(q1[lk->a], q1[lk->b], sizeof q1[lk->a]);
+            }
+        }
+    }
+}
+
+static void fz_op_verify(fz_in *in)
+{
+    static edmi_real q1[EDMI_MAX_BODIES][3], p1[EDMI_MAX_BODIES][3];
+    static edmi_real rq[EDMI_MAX_BODIES + 1][3], rp[EDMI_MAX_BODIES + 1][3];
+    static edmi_real rq0[EDMI_MAX_BODIES + 1][3], rp0[EDMI_MAX_BODIES + 1][3];
+    static edmi_real kmat[FZ_N3 * FZ_N3 + 1], kmat0[FZ_N3 * FZ_N3 + 1];
+    edmi_real dt = fz_pos(in);
+    unsigned which = fz_u8(in);
+    int sw = -7, sw0 = -7, n;
+    edmi_status st;
+    fz_trial(in, q1, p1);
+    memcpy(&fz_before, &fz_sys, sizeof fz_sys);
+    if (which & 1u) {
+        memset(rq, 0xa5, sizeof rq);
+        memset(rp, 0x5a, sizeof rp);
+        memcpy(rq0, rq, sizeof rq);
+        memcpy(rp0, rp, sizeof rp);
+        st = edmi_residual(&fz_sys, &fz_work, dt, (const edmi_real (*)[3])q1,
+                           (const edmi_real (*)[3])p1, rq, rp, (which & 2u) ? &sw : 0);
+        fz_unchanged(st, "edmi_residual", &fz_sys, &fz_before, rq, rq0, sizeof rq);
+        fz_unchanged(st, "edmi_residual", &fz_sys, &fz_before, rp, rp0, sizeof rp);
+        if (st != EDMI_OK && sw != sw0)
+            fz_fail("lg_switches written on error", "edmi_residual", st);
+        if (st == EDMI_OK) {
+            n = fz_sys.n_bodies;
+            if (!fz_finite_n(rq[0], 3 * n) || !fz_finite_n(rp[0], 3 * n))
+                fz_fail("non-finite residual", "edmi_residual", st);
+            if (memcmp(rq[n], rq0[n], sizeof rq[n]) != 0 || memcmp(rp[n], rp0[n], sizeof rp[n]))
+                fz_fail("wrote past n_bodies rows", "edmi_residual", st);
+        }
+    } else {
+        memset(kmat, 0xa5, sizeof kmat);
+        memcpy(kmat0, kmat, sizeof kmat);
+        st = edmi_tangent(&fz_sys, &fz_work, dt, (const edmi_real (*)[3])q1,
+                          (const edmi_real (*)[3])p1, kmat);
+        fz_unchanged(st, "edmi_tangent", &fz_sys, &fz_before, kmat, kmat0, sizeof kmat);
+        if (st == EDMI_OK) {
+            n = 3 * fz_sys.n_bodies;
+            if (!fz_finite_n(kmat, n * n))
+                fz_fail("non-finite tangent", "edmi_tangent", st);
+            if (memcmp(&kmat[n * n], &kmat0[n * n], sizeof kmat[0]) != 0)
+                fz_fail("wrote past (3n)^2 entries", "edmi_tangent", st);
+        }
+    }
+}
+
+static void fz_op_potential(fz_in *in, int *n_user)
+{
+    edmi_potential pot = fz_potential(in, n_user);
+    edmi_pot_parts pp, pp0;
+    edmi_real d0 = fz_pos(in), d1 = fz_pos(in), dd = (edmi_real)-7, ddd = (edmi_real)-7;
+    edmi_status st;
+    if (fz_u8(in) & 1u)
+        d1 = d0 * ((edmi_real)1 + fz_real(in) * (edmi_real)1e-6);
+    memset(&pp, 0xa5, sizeof pp);
+    memcpy(&pp0, &pp, sizeof pp);
+    st = edmi_pot_eval(&pot, d0, &pp);
+    fz_unchanged(st, "edmi_pot_eval", 0, 0, &pp, &pp0, sizeof pp);
+    if (st == EDMI_OK && !fz_finite_n(pp.v, 25))
+        fz_fail("non-finite derivatives", "edmi_pot_eval", st);
+    st = edmi_pot_divdiff(&pot, d0, d1, &dd, &ddd);
+    fz_status(st, "edmi_pot_divdiff");
+    if (st != EDMI_OK && (dd != (edmi_real)-7 || ddd != (edmi_real)-7))
+        fz_fail("output written on error", "edmi_pot_divdiff", st);
+    if (st == EDMI_OK && (!fz_finite(dd) || !fz_finite(ddd)))
+        fz_fail("non-finite divided difference", "edmi_pot_divdiff", st);
+}
+
+/* Build calls on the existing system: every one either succeeds or changes nothing. */
+static void fz_op_build(fz_in *in, int *n_user)
+{
+    edmi_real v[3], w[3];
+    edmi_potential pot;
+    edmi_params prm;
+    int idx = -9, idx0 = -9;
+    edmi_status st;
+    unsigned which = fz_u8(in) % 9u;
+    fz_vec(in, v);
+    memcpy(&fz_before, &fz_sys, sizeof fz_sys);
+    switch (which) {
+    case 0:
+        fz_vec(in, w);
+        st = edmi_add_body(&fz_sys, fz_pos(in), v, w, &idx);
+        break;
+    case 1:
+        pot = fz_potential(in, n_user);
+        st = edmi_add_pair(&fz_sys, fz_index(in, fz_sys.n_bodies), fz_index(in, fz_sys.n_bodies),
+                           &pot, &idx);
+        break;
+    case 2:
+        pot = fz_potential(in, n_user);
+        st = edmi_add_anchor(&fz_sys, fz_index(in, fz_sys.n_bodies), v, &pot, &idx);
+        break;
+    case 3:
+        st = edmi_add_damper(&fz_sys, fz_index(in, fz_sys.n_links), fz_pos(in), &idx);
+        break;
+    case 4:
+        st = edmi_set_field(&fz_sys, v);
+        break;
+    case 5:
+        st = edmi_set_force(&fz_sys, fz_index(in, fz_sys.n_bodies), v);
+        break;
+    case 6:
+        st = edmi_move_anchor(&fz_sys, fz_index(in, fz_sys.n_links), v);
+        break;
+    case 7:
+        prm = fz_params(in);
+        st = edmi_set_params(&fz_sys, &prm);
+        break;
+    default:
+        prm = fz_params(in);
+        st = edmi_init(&fz_sys, (fz_u8(in) & 1u) ? &prm : 0);
+        break;
+    }
+    fz_unchanged(st, "a build call", &fz_sys, &fz_before, &idx, &idx0, sizeof idx);
+}
+
+/* A scene as constant data, validated by edmi_load_scene before it replaces anything. */
+static void fz_op_scene(fz_in *in, int *n_user)
+{
+    static edmi_body bodies[EDMI_MAX_BODIES];
+    static edmi_link links[EDMI_MAX_LINKS];
+    static edmi_damper dampers[EDMI_MAX_DAMPERS];
+    edmi_params prm = fz_params(in);
+    edmi_scene sc;
+    edmi_status st;
+    int k;
+    memset(bodies, 0, sizeof bodies);
+    memset(links, 0, sizeof links);
+    memset(dampers, 0, sizeof dampers);
+    sc.n_bodies = fz_index(in, EDMI_MAX_BODIES + 1);
+    sc.n_links = fz_index(in, EDMI_MAX_LINKS + 1);
+    sc.n_dampers = fz_index(in, EDMI_MAX_DAMPERS + 1);
+    for (k = 0; k < EDMI_MAX_BODIES && k < sc.n_bodies; k++) {
+        bodies[k].m = fz_pos(in);
+        fz_vec(in, bodies[k].q);
+        fz_vec(in, bodies[k].p);
+    }
+    for (k = 0; k < EDMI_MAX_LINKS && k < sc.n_links; k++) {
+        links[k].a = fz_index(in, sc.n_bodies);
+        links[k].b = (fz_u8(in) & 1u) ? EDMI_ANCHOR : fz_index(in, sc.n_bodies);
+        fz_vec(in, links[k].anchor);
+        links[k].pot = fz_potential(in, n_user);
+    }
+    for (k = 0; k < EDMI_MAX_DAMPERS && k < sc.n_dampers; k++) {
+        dampers[k].link = fz_index(in, sc.n_links);
+        dampers[k].c = fz_pos(in);
+    }
+    sc.bodies = (fz_u8(in) == 255u) ? 0 : bodies;
+    sc.links = (fz_u8(in) == 255u) ? 0 : links;
+    sc.dampers = (fz_u8(in) == 255u) ? 0 : dampers;
+    sc.has_field = (int)(fz_u8(in) & 1u);
+    fz_vec(in, sc.g);
+    sc.params = (fz_u8(in) & 1u) ? &prm : 0;
+    memcpy(&fz_before, &fz_sys, sizeof fz_sys);
+    st = edmi_load_scene(&fz_sys, &sc);
+    fz_unchanged(st, "edmi_load_scene", &fz_sys, &fz_before, 0, 0, 0);
+}
+
+/* Firmware writes the state directly (README: state access); sometimes it corrupts a count. */
+static void fz_op_poke(fz_in *in)
+{
+    unsigned which = fz_u8(in) % 16u;
+    int a = fz_index(in, fz_sys.n_bodies);
+    int v = fz_index(in, EDMI_MAX_BODIES + 1);
+    if (which < 4u && a >= 0 && a < EDMI_MAX_BODIES) {
+        if (which == 0)
+            fz_vec(in, fz_sys.body[a].q);
+        else if (which == 1)
+            fz_vec(in, fz_sys.body[a].p);
+        else if (which == 2)
+            fz_sys.body[a].m = fz_pos(in);
+        else
+            fz_sys.t = fz_real(in);
+        return;
+    }
+    switch (which) {
+    case 4: fz_sys.n_forced = v; break;
+    case 5: fz_sys.n_bodies = v; break;
+    case 6: fz_sys.n_moving = v; break;
+    case 7: fz_sys.n_dampers = v; break;
+    default: { /* a field written directly: a value, not a count */
+        int j = fz_index(in, EDMI_MAX_LINKS), k = (int)(fz_u8(in) % 3u);
+        edmi_real x = fz_real(in);
+        if (j < 0 || j >= EDMI_MAX_DAMPERS)
+            j = 0;
+        switch (which) {
+        case 8: fz_sys.damper[j].c = x; break;
+        case 9: fz_sys.force[j % EDMI_MAX_BODIES][k] = x; break;
+        case 10: fz_sys.anchor_next[j][k] = x; break;
+        case 11: fz_sys.g[k] = x; break;
+        case 12: fz_sys.link[j].pot.a = x; break;
+        case 13: fz_sys.link[j].anchor[k] = x; break;
+        case 14: fz_sys.t_carry = x; break;
+        default: fz_sys.damper[j].link = fz_index(in, EDMI_MAX_LINKS + 1); break;
+        }
+    }
+    }
+}
+
+/* NULL pointers everywhere a pointer is taken. */
+static void fz_op_null(void)
+{
+    static const edmi_real v[3] = {0, 0, 0};
+    edmi_potential pot = edmi_pot_harmonic(1, 1);
+    edmi_pot_parts pp;
+    edmi_invariants inv;
+    edmi_real x, y;
+    int k;
+    memcpy(&fz_before, &fz_sys, sizeof fz_sys);
+#define FZ_NULL(call)                                                                  \
+    do {                                                                               \
+        edmi_status st_ = (call);                                                      \
+        if (st_ != EDMI_ERR_NULL)                                                      \
+            fz_fail("NULL not reported", #call, st_);                                  \
+    } while (0)
+    FZ_NULL(edmi_init(0, 0));
+    FZ_NULL(edmi_set_params(&fz_sys, 0));
+    FZ_NULL(edmi_add_body(&fz_sys, 1, 0, v, 0));
+    FZ_NULL(edmi_add_body(&fz_sys, 1, v, 0, 0));
+    FZ_NULL(edmi_add_pair(0, 0, 1, &pot, 0));
+    FZ_NULL(edmi_add_anchor(&fz_sys, 0, 0, &pot, 0));
+    FZ_NULL(edmi_set_field(&fz_sys, 0));
+    FZ_NULL(edmi_add_damper(0, 0, 1, 0));
+    FZ_NULL(edmi_move_anchor(&fz_sys, 0, 0));
+    FZ_NULL(edmi_set_force(&fz_sys, 0, 0));
+    FZ_NULL(edmi_load_scene(&fz_sys, 0));
+    FZ_NULL(edmi_step(&fz_sys, 0, 1, 0));
+    FZ_NULL(edmi_invariants_of(0, &inv));
+    FZ_NULL(edmi_pot_eval(0, 1, &pp));
+    FZ_NULL(edmi_pot_eval(&pot, 1, 0));
+    FZ_NULL(edmi_pot_divdiff(0, 1, 1, &x, &y));
+    FZ_NULL(edmi_pot_divdiff(&pot, 1, 1, 0, &y));
+    FZ_NULL(edmi_pot_divdiff(&pot, 1, 1, &x, 0));
+    FZ_NULL(edmi_residual(&fz_sys, &fz_work, 1, 0, 0, 0, 0, 0));
+    FZ_NULL(edmi_tangent(&fz_sys, 0, 1, 0, 0, 0));
+#undef FZ_NULL
+    (void)y;
+    if (memcmp(&fz_sys, &fz_before, sizeof fz_sys) != 0)
+        fz_fail("system changed", "a call with a NULL pointer", EDMI_ERR_NULL);
+    for (k = -2; k <= (int)EDMI_ERR_RANGE + 2; k++)
+        if (edmi_status_name((edmi_status)k) == 0)
+            fz_fail("no status name", "edmi_status_name", (edmi_status)k);
+}
+
+#define FZ_MAX_OPS 64
+#define FZ_MAX_STEPS 48
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fz_in in;
+    edmi_params prm;
+    int n_user = 0, ops, steps = 0;
+    in.d = data;
+    in.n = size;
+    in.i = 0;
+    prm = fz_params(&in);
+    if (edmi_init(&fz_sys, &prm) != EDMI_OK)
+        (void)edmi_init(&fz_sys, 0);
+    fz_build(&in, &fz_sys, &n_user);
+    for (ops = 0; ops < FZ_MAX_OPS && !fz_done(&in); ops++) {
+        unsigned op = fz_u8(&in) % 16u;
+        if (op < 7u) {
+            int k, n = 1 + (int)(fz_u8(&in) % 8u);
+            for (k = 0; k < n && steps < FZ_MAX_STEPS; k++)
+                fz_op_step(&in, &steps);
+        } else if (op < 9u) {
+            fz_op_build(&in, &n_user);
+        } else if (op == 9u) {
+            fz_op_measure(&in);
+        } else if (op == 10u) {
+            fz_op_verify(&in);
+        } else if (op == 11u) {
+            fz_op_potential(&in, &n_user);
+        } else if (op == 12u) {
+            fz_op_scene(&in, &n_user);
+        } else if (op == 13u) {
+            fz_op_poke(&in);
+        } else if (op == 14u) {
+            fz_op_null();
+        } else {
+            fz_op_measure(&in);
+            fz_op_step(&in, &steps);
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,305 @@
+/* suite_fuzz_findings: one regression test per promise the API fuzzer (tests/fuzz/) found
+ * broken, each failing on the library before its fix. The promise: every call either
+ * succeeds with a solved, finite state or returns a status and changes nothing.
+ *
+ *  1. A step returned EDMI_OK unsolved when a norm in its scaled residual overflowed or
+ *     underflowed (|q|, |p| or dt |p| / m beyond ~1.8e19 in float, 1.3e154 in double;
+ *     below ~1e-23 and 1e-162): 0 Newton corrections, q and p unchanged.
+ *  2. edmi_invariants_of and edmi_residual wrote their outputs and then failed.
+ *  3. A step whose t + dt overflows committed t = +inf.
+ *  4. MP (which evaluates only the mid-point) committed a link of length 0, or outside a user
+ *     potential's domain: a state the next call refuses.
+ *  5. Counts the caller overwrote (n_forced, n_bodies, n_moving) made calls other than
+ *     edmi_step index out of bounds.
+ *  6. The guard certified steps whose energies underflow (p^2 of a tiny momentum, a 0/0 in
+ *     an error bound read as a margin of 0), and results beyond the range came back as OK
+ *     with infinities (a potential's derivatives, an invariant, a tangent block). */
+#include <string.h>
+
+#include "harness.h"
+#include "passive.h"
+#include "suites.h"
+
+static edmi_system tf_sys, tf_snap;
+static edmi_workspace tf_work;
+
+static const edmi_real tf_zero3[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
+
+#define TF_UNCHANGED() (memcmp(&tf_snap, &tf_sys, sizeof tf_sys) == 0)
+
+/* One free body (no links): m, q = (x, 0, 0), p = (y, 0, 0). The guard off: its
+ * double-word energies cover |p| up to ~sqrt(REAL_MAX) only (beyond: EDMI_ERR_PASSIVITY). */
+static int tf_free_body(edmi_scheme scheme, edmi_real m, edmi_real x, edmi_real y)
+{
+    edmi_params prm = edmi_default_params();
+    prm.guard = EDMI_GUARD_OFF;
+    edmi_real q[3], p[3];
+    q[0] = x;
+    q[1] = q[2] = EDMI_R(0.0);
+    p[0] = y;
+    p[1] = p[2] = EDMI_R(0.0);
+    prm.scheme = scheme;
+    return edmi_init(&tf_sys, &prm) == EDMI_OK && edmi_add_body(&tf_sys, m, q, p, 0) == EDMI_OK;
+}
+
+/* 1. A free body moves by dt p / m exactly (R_q = 0 and R_p = 0 have that one solution,
+ *    which Newton reaches in one correction), at every scale the format holds. */
+static void tf_scales(void)
+{
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+    static const edmi_real big = EDMI_R(1.4e154), small = EDMI_R(1e-170);
+#else
+    static const edmi_real big = EDMI_R(1.9e19), small = EDMI_R(1e-25);
+#endif
+    const edmi_real dt = EDMI_R(0.5);
+    edmi_step_result res;
+    edmi_real g[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(-9.75)};
+    int s;
+    for (s = 0; s < 2; s++) {
+        edmi_scheme scheme = s ? EDMI_PM : EDMI_MP;
+        /* huge mass and momentum: the body moves dt p / m = 0.5 */
+        CHECK(tf_free_body(scheme, big, EDMI_R(0.0), big));
+        CHECK_STATUS(edmi_step(&tf_sys, &tf_work, dt, &res), EDMI_OK);
+        CHECK(res.iterations >= 1);
+        CHECK(tf_sys.body[0].q[0] == dt);
+        /* huge position, unit mass and momentum: moves by dt p / m, a few units of q */
+        CHECK(tf_free_body(scheme, EDMI_R(1.0), big, EDMI_R(1.0)));
+        CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(4.0) * big * EDMI_EPS, &res), EDMI_OK);
+        CHECK(res.iterations >= 1);
+        CHECK(tf_sys.body[0].q[0] > big);
+        /* tiny position and momentum, unit mass: q goes from x to x + dt x */
+        CHECK(tf_free_body(scheme, EDMI_R(1.0), small, small));
+        CHECK_STATUS(edmi_step(&tf_sys, &tf_work, dt, &res), EDMI_OK);
+        CHECK(res.iterations >= 1);
+        CHECK_NEAR(tf_sys.body[0].q[0], EDMI_R(1.5) * small, EDMI_R(0.0), EDMI_R(4.0) * EDMI_EPS);
+        /* a body at rest in a field with a huge mass: p goes to dt m g (exact in binary up to
+         * one rounding), q to dt^2 g / 2 */
+        CHECK(tf_free_body(scheme, big, EDMI_R(0.0), EDMI_R(0.0)));
+        CHECK_STATUS(edmi_set_field(&tf_sys, g), EDMI_OK);
+        CHECK_STATUS(edmi_step(&tf_sys, &tf_work, dt, &res), EDMI_OK);
+        CHECK(res.iterations >= 1);
+        CHECK_NEAR(tf_sys.body[0].p[2], dt * big * g[2], EDMI_R(0.0), EDMI_R(4.0) * EDMI_EPS);
+        CHECK_NEAR(tf_sys.body[0].q[2], EDMI_R(0.5) * dt * dt * g[2], EDMI_R(0.0),
+                   EDMI_R(8.0) * EDMI_EPS);
+    }
+    /* Beyond the range: a scale |q| + dt |p| / m that overflows is a status, not a state */
+    CHECK(tf_free_body(EDMI_PM, EDMI_R(1.0), EDMI_REAL_MAX, EDMI_R(1.0)));
+    tf_sys.body[0].q[1] = EDMI_REAL_MAX; /* |q| = sqrt(2) REAL_MAX */
+    memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+    CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.5), &res), EDMI_ERR_RANGE);
+    CHECK(TF_UNCHANGED());
+}
+
+/* 2. Outputs stay untouched on failure. */
+static void tf_outputs(void)
+{
+    static edmi_real q1[2][3], p1[2][3], rq[2][3], rp[2][3], rq0[2][3], rp0[2][3];
+    edmi_potential lj = edmi_pot_lj(EDMI_R(1.0), EDMI_R(1.0));
+    edmi_invariants inv, inv0;
+    edmi_params prm = edmi_default_params();
+    edmi_real q[3] = {EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)};
+    int sw = -3;
+    /* a body on its LJ anchor: the invariants are undefined */
+    CHECK(edmi_init(&tf_sys, 0) == EDMI_OK &&
+          edmi_add_body(&tf_sys, EDMI_R(1.0), q, tf_zero3, 0) == EDMI_OK &&
+          edmi_add_anchor(&tf_sys, 0, q, &lj, 0) == EDMI_OK);
+    memset(&inv, 0x5a, sizeof inv);
+    memcpy(&inv0, &inv, sizeof inv);
+    CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_ERR_COINCIDENT);
+    CHECK(memcmp(&inv, &inv0, sizeof inv) == 0);
+    /* a trial end state with d_n+1 = 0 on an LJ pair (PM evaluates V at d_n+1) */
+    prm.scheme = EDMI_PM;
+    CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+          edmi_add_body(&tf_sys, EDMI_R(1.0), q, tf_zero3, 0) == EDMI_OK &&
+          edmi_add_body(&tf_sys, EDMI_R(1.0), tf_zero3, tf_zero3, 0) == EDMI_OK &&
+          edmi_add_pair(&tf_sys, 0, 1, &lj, 0) == EDMI_OK);
+    memset(q1, 0, sizeof q1);
+    memset(p1, 0, sizeof p1);
+    memset(rq, 0x5a, sizeof rq);
+    memset(rp, 0x5a, sizeof rp);
+    memcpy(rq0, rq, sizeof rq);
+    memcpy(rp0, rp, sizeof rp);
+    CHECK_STATUS(edmi_residual(&tf_sys, &tf_work, EDMI_R(0.01), (const edmi_real (*)[3])q1,
+                               (const edmi_real (*)[3])p1, rq, rp, &sw),
+                 EDMI_ERR_DIVERGED);
+    CHECK(memcmp(rq, rq0, sizeof rq) == 0);
+    CHECK(memcmp(rp, rp0, sizeof rp) == 0);
+    CHECK(sw == -3);
+}
+
+/* 3. The clock: a dt that would take t to +inf is refused, the state kept. */
+static void tf_clock(void)
+{
+    edmi_step_result res;
+    const edmi_real dt = EDMI_R(0.75) * EDMI_REAL_MAX;
+    CHECK(tf_free_body(EDMI_PM, EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)));
+    CHECK_STATUS(edmi_step(&tf_sys, &tf_work, dt, &res), EDMI_OK);
+    CHECK(tf_sys.t == dt);
+    memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+    CHECK_STATUS(edmi_step(&tf_sys, &tf_work, dt, &res), EDMI_ERR_DT);
+    CHECK(TF_UNCHANGED());
+}
+
+/* A user potential with no force, V = 0, defined for r <= r_max only (ctx: r_max). */
+static int tf_flat_fn(void *ctx, edmi_real r, edmi_pot_parts *o)
+{
+    int i;
+    if (!(r <= *(const edmi_real *)ctx))
+        return 1;
+    for (i = 0; i < 5; i++)
+        o->c[i] = o->e[i] = o->sp[i] = o->sm[i] = EDMI_R(0.0);
+    return 0;
+}
+
+/* 4. MP's solution ending a link at length 0 or outside a user potential's domain: a body
+ *    with no force on it moves exactly q + dt p / m, here onto its anchor, or past the
+ *    domain's edge while its mid-point stays inside. */
+static void tf_mp_end(void)
+{
+    static edmi_real r_max = EDMI_R(1.5);
+    edmi_potential flat = edmi_pot_user(tf_flat_fn, 0, &r_max);
+    edmi_params prm = edmi_default_params();
+    edmi_step_result res;
+    edmi_real q[3] = {EDMI_R(-1.0), EDMI_R(0.0), EDMI_R(0.0)};
+    edmi_real p[3] = {EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)};
+    edmi_invariants inv;
+    int k;
+    for (k = 0; k < 2; k++) {
+        prm.scheme = EDMI_MP;
+        prm.fallback = k;
+        /* from -1 at speed 1 for dt = 1: lands on the anchor at the origin */
+        CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+              edmi_add_body(&tf_sys, EDMI_R(1.0), q, p, 0) == EDMI_OK &&
+              edmi_add_anchor(&tf_sys, 0, tf_zero3, &flat, 0) == EDMI_OK);
+        memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+        if (k == 0) {
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(1.0), &res), EDMI_ERR_DIVERGED);
+            CHECK(TF_UNCHANGED());
+        } else { /* the fallback keeps the positions: a state the next call accepts */
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(1.0), &res), EDMI_OK);
+            CHECK(res.stop == EDMI_STOP_FALLBACK);
+            CHECK(tf_sys.body[0].q[0] == q[0]);
+            CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_OK);
+        }
+        /* from -1 at speed 1 for dt = 2.75: the mid-point at distance 0.375 from the anchor,
+         * the end at 1.75, outside r <= 1.5 */
+        CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+              edmi_add_body(&tf_sys, EDMI_R(1.0), q, p, 0) == EDMI_OK &&
+              edmi_add_anchor(&tf_sys, 0, tf_zero3, &flat, 0) == EDMI_OK);
+        memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+        if (k == 0) {
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(2.75), &res), EDMI_ERR_DIVERGED);
+            CHECK(TF_UNCHANGED());
+        } else {
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(2.75), &res), EDMI_OK);
+            CHECK(res.stop == EDMI_STOP_FALLBACK);
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.25), &res), EDMI_OK);
+        }
+    }
+}
+
+/* 5. Counts a caller overwrote: every entry point refuses before it indexes. */
+static void tf_counts(void)
+{
+    static const int bad[4] = {-1, EDMI_MAX_BODIES + 1, -1000000, 1000000};
+    edmi_potential h = edmi_pot_harmonic(EDMI_R(1.0), EDMI_R(1.0));
+    edmi_invariants inv;
+    edmi_params prm = edmi_default_params();
+    edmi_real f[3] = {EDMI_R(1.0), EDMI_R(2.0), EDMI_R(3.0)};
+    int k, which;
+    for (which = 0; which < 3; which++)
+        for (k = 0; k < 4; k++) {
+            CHECK(tf_free_body(EDMI_PM, EDMI_R(1.0), EDMI_R(1.0), EDMI_R(0.0)) &&
+                  edmi_add_anchor(&tf_sys, 0, tf_zero3, &h, 0) == EDMI_OK);
+            if (which == 0)
+                tf_sys.n_forced = bad[k];
+            else if (which == 1)
+                tf_sys.n_bodies = bad[k];
+            else
+                tf_sys.n_moving = bad[k] < 0 ? bad[k] : EDMI_MAX_LINKS + 1;
+            memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+            CHECK_STATUS(edmi_set_force(&tf_sys, 0, f), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_add_body(&tf_sys, EDMI_R(1.0), f, f, 0), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_add_anchor(&tf_sys, 0, f, &h, 0), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_add_damper(&tf_sys, 0, EDMI_R(1.0), 0), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_move_anchor(&tf_sys, 0, f), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_set_field(&tf_sys, f), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_set_params(&tf_sys, &prm), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_ERR_CAPACITY);
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.01), 0), EDMI_ERR_CAPACITY);
+            CHECK(TF_UNCHANGED());
+        }
+}
+
+/* 6. The range: underflowing energies are not certified; overflowing results are a status.
+ *    The guard's case, found in float: mass 2.3e-28, p = FLT_MIN, a field; its kinetic
+ *    energies (p^2 ~ 1e-62 / 2m) underflow in p^2 before the division. The stored state must
+ *    satisfy the passivity inequality as a long-double evaluation sees it, or the step fail. */
+static void tf_range(void)
+{
+    edmi_params prm = edmi_default_params();
+    edmi_step_result res;
+    edmi_pot_parts pp;
+    edmi_real q[3] = {EDMI_R(0.0234375), EDMI_R(100.0), EDMI_R(1.0)};
+    edmi_real p[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
+    edmi_real g[3] = {EDMI_R(1.1920929e-7), EDMI_R(1e-3), EDMI_R(0.0)};
+    edmi_real dd = EDMI_R(-1.0), dd1 = EDMI_R(-1.0);
+    edmi_potential lj = edmi_pot_lj(EDMI_R(1.0), EDMI_R(1.0));
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+    const edmi_real tiny = EDMI_R(1e-300);
+#else
+    const edmi_real tiny = EDMI_R(1e-30);
+#endif
+    edmi_potential h = edmi_pot_harmonic(tiny, tiny);
+    edmi_real x[3];
+    edmi_status st;
+    tp_delta d;
+    x[0] = x[1] = x[2] = -tiny;
+    p[0] = EDMI_R(1.17549435e-38);
+    prm.scheme = EDMI_MP;
+    prm.guard = EDMI_GUARD_ON;
+    CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+          edmi_add_body(&tf_sys, EDMI_R(2.28775825e-28), q, p, 0) == EDMI_OK &&
+          edmi_set_field(&tf_sys, g) == EDMI_OK);
+    memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+    st = edmi_step(&tf_sys, &tf_work, EDMI_R(0.484375), &res);
+    CHECK(st == EDMI_OK || st == EDMI_ERR_PASSIVITY);
+    if (st == EDMI_OK)
+        CHECK(tp_delta_h(&tf_snap, &tf_sys, &res, &d) && d.dh - d.w <= d.err);
+    else
+        CHECK(TF_UNCHANGED());
+    /* a spring k = r0 = 1e-300 (float: 1e-30) about an anchor 1.7 k away: |r_n|^2 underflows,
+     * and the guard's error bound was 0/0, read as a margin of 0 */
+    prm.scheme = EDMI_PM;
+    prm.guard = EDMI_GUARD_AUTO;
+    p[0] = EDMI_R(1.0);
+    p[2] = EDMI_R(1.0);
+    CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+          edmi_add_body(&tf_sys, EDMI_R(100.0), tf_zero3, p, 0) == EDMI_OK &&
+          edmi_add_anchor(&tf_sys, 0, x, &h, 0) == EDMI_OK);
+    memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+    st = edmi_step(&tf_sys, &tf_work, EDMI_R(1e-12), &res);
+    CHECK(st == EDMI_OK || st == EDMI_ERR_PASSIVITY);
+    if (st == EDMI_OK)
+        CHECK(tp_delta_h(&tf_snap, &tf_sys, &res, &d) && d.dh - d.w <= d.err);
+    /* LJ at r = 1e-4: (s/r)^12 = 1e48 overflows float; at 1e-30 it overflows double */
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+    st = edmi_pot_eval(&lj, EDMI_R(1e-30), &pp);
+#else
+    st = edmi_pot_eval(&lj, EDMI_R(1e-4), &pp);
+#endif
+    CHECK_STATUS(st, EDMI_ERR_RANGE);
+    CHECK_STATUS(edmi_pot_divdiff(&lj, EDMI_R(1e-30), EDMI_R(1e-30), &dd, &dd1), EDMI_ERR_RANGE);
+    CHECK(dd == EDMI_R(-1.0) && dd1 == EDMI_R(-1.0));
+}
+
+void suite_fuzz_findings(void)
+{
+    th_suite("fuzz findings: solved or a status, and nothing changed");
+    tf_scales();
+    tf_outputs();
+    tf_clock();
+    tf_mp_end();
+    tf_counts();
+    tf_range();
+}
