@@ -642,7 +642,9 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
 /* Linear viscous damper along a link (section "effects" of README): impulse
  *     I = c (dr . r_m) r_m / |r_m|^2,   dr = r_n+1 - r_n,
  * is parallel to r_m, so L, J and C are conserved (lemma many-body-momentum), and it removes
- * exactly dr . I / dt = c (dr . r_m)^2 / (|r_m|^2 dt) >= 0 per step. Its tangent
+ * exactly dr . I / dt = c (dr . r_m)^2 / (|r_m|^2 dt) >= 0 per step (*loss = dr . I, formed as
+ * (c s / |r_m|^2) s so that its sign survives rounding: summed as dr . I over the rounded
+ * impulse it came out negative for c = 4.9e-324, a subnormal impulse). Its tangent
  * k = dI / dr_n+1 follows from d r_m = dr_n+1 / 2, so with s = dr . r_m, ds = (r_m + dr/2)
  * and d |r_m|^2 = 2 r_m . d r_m = r_m:
  *     k = c / |r_m|^2 [r_m (r_m + dr/2 - s r_m / |r_m|^2)^T + s/2 I].
@@ -650,7 +652,7 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
  * |r_m|^2 term grows like c |dr| / |r_m|, and stalls Newton whenever a body crosses its
  * anchor (tests/test_tangent.c, part 6). */
 static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_real r1[3],
-                                edmi_real imp[3], edmi_real k[9])
+                                edmi_real imp[3], edmi_real k[9], edmi_real *loss)
 {
     edmi_real dr[3], rm[3], m2, s, cs;
     int i, j;
@@ -663,12 +665,14 @@ static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_r
             imp[i] = EDMI__ZERO;
         for (i = 0; i < 9; i++)
             k[i] = EDMI__ZERO;
+        *loss = EDMI__ZERO;
         return EDMI_OK;
     }
     if (!(m2 > EDMI__ZERO))
         return EDMI_ERR_DIVERGED;
     s = edmi__dot(dr, rm);
     cs = c * s / m2;
+    *loss = cs * s; /* dr . I = c s^2 / |r_m|^2, >= 0 as computed (cs has the sign of s) */
     for (i = 0; i < 3; i++) {
         imp[i] = cs * rm[i];
         for (j = 0; j < 3; j++)
@@ -699,10 +703,10 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
     for (d = 0; d < sys->n_dampers; d++) {
         int j = sys->damper[d].link;
         const edmi_link *lk = &sys->link[j];
-        edmi_real r1[3], imp[3];
+        edmi_real r1[3], imp[3], loss;
         edmi_status st;
         edmi__sub(q1[lk->a], edmi__end_b(lk, &work->lw[j], q1), r1);
-        st = edmi__damper(&work->lw[j], sys->damper[d].c, r1, imp, work->kd[d]);
+        st = edmi__damper(&work->lw[j], sys->damper[d].c, r1, imp, work->kd[d], &loss);
         if (st != EDMI_OK)
             return st;
         for (i = 0; i < 3; i++)
@@ -1393,30 +1397,36 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
 static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
                                 edmi_real *err)
 {
-    edmi_real a = pot->a, b = pot->b, m, u;
+    edmi_real a = pot->a, b = pot->b, m, u, r;
     edmi__dw x, t;
     edmi_pot_parts pp;
+    /* m: the term's magnitude; r: what its coefficient (a/2, a/4, a/6, 4a) multiplies, whose
+     * own underflow (a near the smallest normals) r times a subnormal unit covers */
     switch (pot->kind) {
     case EDMI_POT_HARMONIC:
         if (b == EDMI__ZERO) {
             *v = edmi__dw_mul_r(s, EDMI__HALF * a);
             m = EDMI__HALF * a * s.hi;
+            r = s.hi;
         } else {
             x = edmi__dw_add(d, edmi__dw_of(-b));
             *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
             m = EDMI__HALF * a * (d.hi + b) * (d.hi + b);
+            r = (d.hi + b) * (d.hi + b);
         }
         break;
     case EDMI_POT_QUARTIC:
         x = edmi__dw_sub(s, edmi__two_prod(b, b));
         *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI_R(0.25) * a);
         m = EDMI_R(0.25) * a * (s.hi + b * b) * (s.hi + b * b);
+        r = (s.hi + b * b) * (s.hi + b * b);
         break;
     case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
         x = edmi__dw_add(d, edmi__dw_of(-b));
         t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add(d, edmi__dw_of(EDMI_R(2.0) * b)));
         *v = edmi__dw_div(edmi__dw_mul_r(t, a), edmi__dw_mul_r(d, EDMI_R(6.0)));
         m = a / EDMI_R(6.0) * (d.hi + b) * (d.hi + b) * (d.hi + EDMI_R(2.0) * b) / d.hi;
+        r = (d.hi + b) * (d.hi + b) * (d.hi + EDMI_R(2.0) * b) / d.hi;
         break;
     case EDMI_POT_LJ: /* 4 eps t^6 (t^6 - 1), t = sigma / d */
         t = edmi__dw_div(edmi__dw_of(b), d);
@@ -1425,10 +1435,12 @@ static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw 
         *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add(t, edmi__dw_of(-EDMI__ONE))),
                             EDMI_R(4.0) * a);
         m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
+        r = t.hi * (t.hi + EDMI__ONE);
         break;
     case EDMI_POT_INVERSE:
         *v = edmi__dw_div(edmi__dw_of(-a), d);
         m = edmi__abs(a) / d.hi;
+        r = EDMI__ZERO; /* a itself, exact */
         break;
     case EDMI_POT_USER:
     default:
@@ -1441,10 +1453,11 @@ static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw 
         return EDMI_OK;
     }
     /* underflow: in s, amplified by |dV/ds| <= 8 M / s (none for V = a s / 2, whose s may be
-     * 0), and in the products after it: the coefficient a (over d for neo-Hooke, inverse) */
+     * 0), in the products after it (the coefficient a, over d for neo-Hooke, inverse) and in
+     * the coefficient (r; measured: a = 1.4e-45 in float, whose a/2 is 0) */
     u = pot->kind == EDMI_POT_HARMONIC && b == EDMI__ZERO
-            ? a
-            : edmi__abs(a) * (EDMI__ONE + EDMI__ONE / d.hi) + EDMI_R(8.0) * m / s.hi;
+            ? a + r
+            : edmi__abs(a) * (EDMI__ONE + EDMI__ONE / d.hi) + EDMI_R(8.0) * m / s.hi + r;
     *err = EDMI__DW_ERR * m + EDMI__DW_TINY * (EDMI__ONE + EDMI_R(16.0) * u);
     return EDMI_OK;
 }
@@ -2241,14 +2254,13 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
         int l = sys->damper[j].link;
         const edmi_link *lk = &sys->link[l];
         edmi_link_ws *w = &work->lw[l];
-        edmi_real r1[3], dr[3], imp[3], k[9];
+        edmi_real r1[3], imp[3], k[9], loss;
         edmi_status st;
         edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
-        st = edmi__damper(w, sys->damper[j].c, r1, imp, k);
+        st = edmi__damper(w, sys->damper[j].c, r1, imp, k, &loss);
         if (st != EDMI_OK)
             return st;
-        edmi__sub(r1, w->r0, dr);
-        res->diss_damping += edmi__dot(dr, imp) / dt;
+        res->diss_damping += loss / dt;
         for (i = 0; i < 3; i++)
             w->f[i] += imp[i] / dt;
     }
@@ -2782,7 +2794,12 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
         iv.c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * iv.l[i]) / mass : EDMI__ZERO;
     if (!edmi__invariants_finite(&iv)) /* beyond the precision's range */
         return EDMI_ERR_RANGE;
-    *out = iv;
+    out->h = iv.h; /* field by field: a struct copy would need memcpy from the C library */
+    out->k = iv.k;
+    out->v = iv.v;
+    edmi__copy3(iv.j, out->j);
+    edmi__copy3(iv.l, out->l);
+    edmi__copy3(iv.c, out->c);
     return EDMI_OK;
 }
 
@@ -2810,7 +2827,11 @@ edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts
         return st;
     if (!edmi__parts_finite(&pp))
         return EDMI_ERR_RANGE;
-    *out = pp;
+    edmi__copy5(pp.v, out->v); /* part by part: a struct copy would need memcpy */
+    edmi__copy5(pp.c, out->c);
+    edmi__copy5(pp.e, out->e);
+    edmi__copy5(pp.sp, out->sp);
+    edmi__copy5(pp.sm, out->sm);
     return EDMI_OK;
 }
 

@@ -282,6 +282,54 @@ static void tf_range(void)
     CHECK(st == EDMI_OK || st == EDMI_ERR_PASSIVITY);
     if (st == EDMI_OK)
         CHECK(tp_delta_h(&tf_snap, &tf_sys, &res, &d) && d.dh - d.w <= d.err);
+    /* a spring whose k is the smallest subnormal, so that k/2 underflows to 0 while
+     * k/2 (d - r0)^2 does not (found in float: PT, m = 2.7e17, dt = 1.1e28, the body
+     * travelling 2e10 along it; the guard saw dV = 0 where it was +8.8e-25) */
+    prm.scheme = EDMI_PT;
+    p[0] = p[1] = p[2] = EDMI_R(0.5);
+    q[0] = EDMI_R(1.1e-16);
+    q[1] = EDMI_R(0.5);
+    q[2] = EDMI_R(1.1e-16);
+    x[0] = x[1] = EDMI_R(1.0);
+    x[2] = EDMI_R(0.00415039062);
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+    h = edmi_pot_harmonic(EDMI_R(4.9406564584124654e-324), EDMI_R(1e-6));
+#else
+    h = edmi_pot_harmonic(EDMI_R(1.40129846e-45), EDMI_R(1e-6));
+#endif
+    CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+          edmi_add_body(&tf_sys, EDMI_R(2.66086212e17), q, p, 0) == EDMI_OK &&
+          edmi_add_anchor(&tf_sys, 0, x, &h, 0) == EDMI_OK);
+    memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+    st = edmi_step(&tf_sys, &tf_work, EDMI_R(1.12242505e28), &res);
+    CHECK(st == EDMI_OK || st == EDMI_ERR_PASSIVITY);
+    if (st == EDMI_OK)
+        CHECK(tp_delta_h(&tf_snap, &tf_sys, &res, &d) && d.dh - d.w <= d.err);
+    /* a damper of the smallest subnormal c: its loss summed over the rounded impulse came
+     * out negative (found in double: GE, guard on, a quartic link) */
+    {
+        edmi_real qa[3] = {EDMI_R(1000.0), EDMI_R(0.0), EDMI_R(1.0)};
+        edmi_real pa[3] = {EDMI_R(1.0), EDMI_R(1.0), EDMI_R(100.0)};
+        edmi_real qb[3] = {EDMI_R(0.0), EDMI_R(1.0), EDMI_R(1.0)};
+        edmi_real pb[3] = {EDMI_R(1.0), EDMI_R(-1.0), EDMI_R(1.0)};
+        edmi_potential qu = edmi_pot_quartic(EDMI_R(0.25), EDMI_R(1.0));
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+        const edmi_real cmin = EDMI_R(4.9406564584124654e-324);
+#else
+        const edmi_real cmin = EDMI_R(1.40129846e-45);
+#endif
+        prm.scheme = EDMI_GE;
+        prm.guard = EDMI_GUARD_ON;
+        prm.fallback = 1;
+        CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+              edmi_add_body(&tf_sys, EDMI_R(2.22044605e-16), qa, pa, 0) == EDMI_OK &&
+              edmi_add_body(&tf_sys, EDMI_R(0.25), qb, pb, 0) == EDMI_OK &&
+              edmi_add_pair(&tf_sys, 1, 0, &qu, 0) == EDMI_OK &&
+              edmi_add_damper(&tf_sys, 0, cmin, 0) == EDMI_OK);
+        st = edmi_step(&tf_sys, &tf_work, EDMI_R(0.000244140625), &res);
+        if (st == EDMI_OK)
+            CHECK(res.diss_damping >= EDMI_R(0.0));
+    }
     /* LJ at r = 1e-4: (s/r)^12 = 1e48 overflows float; at 1e-30 it overflows double */
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
     st = edmi_pot_eval(&lj, EDMI_R(1e-30), &pp);

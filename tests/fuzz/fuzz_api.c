@@ -307,15 +307,23 @@ static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_rea
             fz_fail("non-finite state", "edmi_step", EDMI_OK);
     if (!fz_finite(s1->t) || !fz_finite(s1->t_carry))
         fz_fail("clock not finite", "edmi_step", EDMI_OK);
-    { /* compensated: t - t_carry advances by dt (t itself may step back by one unit when
-       * dt is below its spacing and the carry above dt) */
+    { /* compensated: t - t_carry advances by dt, up to the roundings of Kahan's sum, a few
+       * eps of |t| and |t_carry| (t itself may step back by one unit when dt is below its
+       * spacing and the carry above dt; a caller may have written t_carry) */
         long double t0 = (long double)s0->t - (long double)s0->t_carry;
         long double t1 = (long double)s1->t - (long double)s1->t_carry;
         long double e = t1 - t0 - (long double)dt;
+        long double mag = fabsl((long double)s0->t) + fabsl((long double)s0->t_carry) +
+                          fabsl((long double)s1->t) + fabsl((long double)s1->t_carry) +
+                          (long double)dt;
         if (e < 0)
             e = -e;
-        if (!(e <= 4.0L * (long double)EDMI_EPS * (fabsl(t0) + fabsl(t1) + (long double)dt)))
+        if (!(e <= 4.0L * (long double)EDMI_EPS * mag)) {
+            fprintf(stderr, "t %.21Lg carry %.21Lg -> t %.21Lg carry %.21Lg, dt %.21Lg\n",
+                    (long double)s0->t, (long double)s0->t_carry, (long double)s1->t,
+                    (long double)s1->t_carry, (long double)dt);
             fz_fail("clock not advanced by dt", "edmi_step", EDMI_OK);
+        }
     }
     for (a = 0; a < s1->n_links; a++)
         if (!fz_finite_n(s1->link_force[a], 3))

@@ -16,9 +16,15 @@ for r in "$@"; do
     dir="$build/fuzz-$r"
     mkdir -p "$dir/corpus"
     rm -f "$dir"/crash-* "$dir"/leak-* "$dir"/timeout-* "$dir"/oom-*
-    "$dir/fuzz" -max_len=1024 -timeout=10 -rss_limit_mb=1024 -max_total_time="$secs" \
-        -print_final_stats=1 -artifact_prefix="$dir/" "$dir/corpus" tests/fuzz/corpus \
-        >"$dir/log" 2>&1 &
+    start=$(date +%s)
+    (
+        "$dir/fuzz" -max_len=1024 -timeout=10 -rss_limit_mb=1024 -max_total_time="$secs" \
+            -print_final_stats=1 -artifact_prefix="$dir/" "$dir/corpus" tests/fuzz/corpus \
+            >"$dir/log" 2>&1
+        rc=$?
+        echo $(($(date +%s) - start)) >"$dir/elapsed"
+        exit $rc
+    ) &
     pids+=($!)
 done
 passed=0 failed=0 i=0
@@ -30,7 +36,10 @@ for r in "$@"; do
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log" | tail -n 1)
     speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$dir/log" | tail -n 1)
     cov=$(grep -E '^#[0-9]+' "$dir/log" | tail -n 1 | sed -n 's/.*cov: \([0-9]*\) ft: \([0-9]*\) corp: \([0-9]*\).*/\1 edges, \2 features, corpus \3/p')
-    echo "fuzz $r: ${runs:-?} inputs in ${secs} s (${speed:-?} per second), ${cov:-?}"
+    if [ -z "$runs" ]; then # stopped by a finding: the last status line has the count
+        runs=$(grep -E '^#[0-9]+' "$dir/log" | tail -n 1 | sed 's/^#\([0-9]*\).*/\1/')
+    fi
+    echo "fuzz $r: ${runs:-?} inputs in $(cat "$dir/elapsed") s (${speed:-?} per second), ${cov:-?}"
     found=$(ls "$dir"/crash-* "$dir"/timeout-* "$dir"/oom-* 2>/dev/null)
     if [ "$rc" -ne 0 ] || [ -n "$found" ]; then
         grep -E 'edmi fuzz|runtime error|ERROR: AddressSanitizer|ERROR: libFuzzer|dH =' "$dir/log" | head -n 5
