@@ -305,7 +305,9 @@ typedef struct edmi_link_ws {
     edmi_real noise;   /* LG quotient: its cancellation error in the link's force */
     edmi_real x1[3];   /* anchor links: the anchor at the end of the step */
     edmi_real f[3];    /* mean force on the second end over the step (sys->link_force) */
-    edmi_real k[9];  /* tangent block d f / d r_{n+1}, row-major */
+    edmi_real gamma;   /* the tangent block d f / d r_{n+1} = dt (beta/2 I + gamma r_m u^T) */
+    edmi_real rm[3];   /* of the last evaluation, built only where a correction needs it */
+    edmi_real u[3];
 } edmi_link_ws;
 
 /** A scene as plain constant data (it can live in flash): the bodies, links and dampers
@@ -332,12 +334,15 @@ typedef struct edmi_workspace {
     edmi_real sq[EDMI_MAX_BODIES];    /* per-body position scale of the stopping test */
     edmi_real sp[EDMI_MAX_BODIES];    /* per-body momentum scale of the stopping test */
     edmi_real dp[EDMI_MAX_BODIES][3]; /* Newton correction of p */
+    edmi_real h[EDMI_MAX_BODIES];     /* dt / (2 m) per body, the Newton matrix's row scales */
     edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
     edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
     int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
     int n_pair;
+    int piv[3 * EDMI_MAX_BODIES];      /* the factored Newton matrix's pivot rows */
+    int kb, upper;                     /* its lower and upper bandwidths */
 } edmi_workspace;
 
 /** Why Newton stopped (a successful step). */

@@ -10,6 +10,8 @@
 #   make plots          CSV traces into $(BUILD)/plots, PNGs into examples/figures (gnuplot);
 #                       SIM_FULL=1 adds the ten-body tol_Q study figure
 #   make bench          examples/bench_solver.c with 128 bodies and 8192 links: cost vs links
+#                       (wall time), then examples/bench_cost.sh: callgrind instructions per
+#                       step, per correction and per link, and against velocity Verlet
 #   make guard-cost     the passivity guard's host cost, callgrind (examples/guard_cost.c)
 #   make haptic         examples/haptic.c, the 1 kHz virtual coupling: its table, the CSV
 #                       $(BUILD)/plots/haptic.csv and examples/figures/haptic_energy.png
@@ -80,8 +82,16 @@ $(SIM_BENCH)/edmi.o: edmi.c edmi.h | $(SIM_BENCH)
 $(SIM_BENCH)/bench_solver: examples/bench_solver.c $(SIM_BENCH)/edmi.o edmi.h
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) $(SIM_BENCH_CAP) -I. $< $(SIM_BENCH)/edmi.o -o $@ $(LDLIBS)
 
-bench: $(SIM_BENCH)/bench_solver
+# The callgrind cost table (examples/bench_cost.sh): both precisions, -O2, the same
+# capacities, each case a separate run of examples/bench_cost.c.
+BC_DIR := $(BUILD)/bench-cost
+$(BC_DIR)/bench_cost-%: examples/bench_cost.c port/bench_scenes.h edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) -O2 -g -DEDMI_REAL=$* $(SIM_BENCH_CAP) -I. examples/bench_cost.c edmi.c -o $@ $(LDLIBS)
+
+bench: $(SIM_BENCH)/bench_solver $(BC_DIR)/bench_cost-float $(BC_DIR)/bench_cost-double
 	$(SIM_BENCH)/bench_solver
+	@sh examples/bench_cost.sh $(BC_DIR)
 
 # The passivity guard's cost on the host: callgrind instructions per step (examples/guard_cost.c).
 GC_DIR := $(BUILD)/guard-cost

@@ -8,7 +8,12 @@
  *              (10, 0, 0), Lennard-Jones eps = 100, sigma = 1, dt = 1e-3 (needs 2 bodies);
  *      stiff:  m = 1, q0 = (1, 0, 0), p0 = (0, 300, 100), harmonic k = 1e6, r0 = 0.5 to an
  *              anchor at the origin, dt = 0.1 (omega dt = 100), params.fallback = 1: in float
- *              Newton cycles on some steps and the fallback state is stored.
+ *              Newton cycles on some steps and the fallback state is stored;
+ *      all10:  10 unit masses, all 45 pairs V = -0.01/r, dt = 0.05 (port/bench_scenes.h);
+ *      solar:  the Sun and nine planets, all 45 pairs of gravity, dt = 5 days
+ *              (port/bench_scenes.h; all10 and solar need 10 bodies and 45 links).
+ *    Each scene but stiff also with a velocity-Verlet step of the same system
+ *    (bs_verlet_step: one closed-form force evaluation per step), for scale.
  *    Printed: instructions per step, mean over the run and worst single step; Newton
  *    iterations per step, mean and maximum; fallback steps; the stack high-water mark of
  *    edmi_step() (bytes below the caller's stack pointer that the calls wrote, found by
@@ -47,6 +52,7 @@
 #include <stddef.h>
 
 #include "../edmi.h"
+#include "bench_scenes.h"
 #include "cortex-m/counter.h"
 #include "cortex-m/semihost.h"
 #include "cortex-m/stack.h"
@@ -112,7 +118,18 @@ static edmi_status bt_null_step(edmi_system *sys, edmi_workspace *work, edmi_rea
     return EDMI_OK;
 }
 
-/* Both steppers are called through this pointer, so their call sequences are identical. */
+/* A velocity-Verlet step of the same system (port/bench_scenes.h): one force evaluation. */
+static edmi_status bt_verlet(edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                             edmi_step_result *res)
+{
+    (void)work;
+    bs_verlet_step(sys, dt);
+    res->iterations = 0;
+    res->stop = EDMI_STOP_CONVERGED;
+    return EDMI_OK;
+}
+
+/* All steppers are called through this pointer, so their call sequences are identical. */
 static bt_step_fn volatile bt_step;
 
 /* The counter: DWT CYCCNT in cycles on silicon, else SysTick ticks of 40 instructions. */
@@ -228,11 +245,13 @@ static long bt_span(bt_call_fn f, edmi_status *st)
     return (long)bt_span_raw(st) - (long)bt_span_null;
 }
 
-/* One step of bt_sys, timed. */
+/* One step of bt_sys by bt_timed (edmi_step unless a table row says otherwise), timed. */
+static bt_step_fn bt_timed = edmi_step;
+
 static long bt_time_step(edmi_real dt, edmi_status *st)
 {
     bt_dt = dt;
-    bt_step = edmi_step;
+    bt_step = bt_timed;
     return bt_span(bt_call_step, st);
 }
 
@@ -298,42 +317,13 @@ static const char *const bt_scheme_name[] = {"MP", "LG", "GE", "PM", "PT"};
 
 /* ---- scenes ------------------------------------------------------------------------------ */
 
-static edmi_status bt_spring(edmi_scheme scheme)
-{
-    static const edmi_real q[3] = {EDMI_R(2.0), EDMI_R(1.0), EDMI_R(1.0)};
-    static const edmi_real p[3] = {EDMI_R(-30.0), EDMI_R(15.0), EDMI_R(45.0)};
-    static const edmi_real origin[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
-    edmi_potential pot = edmi_pot_neo_hooke(EDMI_R(1e3), EDMI_R(4.0));
-    edmi_params prm = edmi_default_params();
-    edmi_status s;
-    prm.scheme = scheme;
-    s = edmi_init(&bt_sys, &prm);
-    if (s == EDMI_OK)
-        s = edmi_add_body(&bt_sys, EDMI_R(10.0), q, p, NULL);
-    if (s == EDMI_OK)
-        s = edmi_add_anchor(&bt_sys, 0, origin, &pot, NULL);
-    return s;
-}
+static edmi_status bt_spring(edmi_scheme scheme) { return bs_spring(&bt_sys, scheme); }
 
-static edmi_status bt_lj2(edmi_scheme scheme)
-{
-    static const edmi_real q1[3] = {EDMI_R(0.0), EDMI_R(-0.5612), EDMI_R(0.0)};
-    static const edmi_real q2[3] = {EDMI_R(0.0), EDMI_R(0.5612), EDMI_R(0.0)};
-    static const edmi_real p1[3] = {EDMI_R(5.0), EDMI_R(0.0), EDMI_R(0.0)};
-    static const edmi_real p2[3] = {EDMI_R(10.0), EDMI_R(0.0), EDMI_R(0.0)};
-    edmi_potential pot = edmi_pot_lj(EDMI_R(100.0), EDMI_R(1.0));
-    edmi_params prm = edmi_default_params();
-    edmi_status s;
-    prm.scheme = scheme;
-    s = edmi_init(&bt_sys, &prm);
-    if (s == EDMI_OK)
-        s = edmi_add_body(&bt_sys, EDMI_R(1.0), q1, p1, NULL);
-    if (s == EDMI_OK)
-        s = edmi_add_body(&bt_sys, EDMI_R(1.0), q2, p2, NULL);
-    if (s == EDMI_OK)
-        s = edmi_add_pair(&bt_sys, 0, 1, &pot, NULL);
-    return s;
-}
+static edmi_status bt_lj2(edmi_scheme scheme) { return bs_lj2(&bt_sys, scheme); }
+
+static edmi_status bt_all10(edmi_scheme scheme) { return bs_pairs(&bt_sys, 10, scheme); }
+
+static edmi_status bt_solar(edmi_scheme scheme) { return bs_solar(&bt_sys, scheme); }
 
 static edmi_status bt_stiff(edmi_scheme scheme)
 {
@@ -463,10 +453,11 @@ static void bt_measure_steps(int steps, edmi_real dt, bt_steps *out)
 
 static int bt_scene_table(void)
 {
-    static const char *const scene_name[] = {"spring", "lj2", "stiff"};
-    static const bt_build_fn build[] = {bt_spring, bt_lj2, bt_stiff};
-    static const int bodies[] = {1, 2, 1};
-    const edmi_real dts[] = {EDMI_R(1e-3), EDMI_R(1e-3), EDMI_R(0.1)};
+    static const char *const scene_name[] = {"spring", "lj2", "stiff", "all10", "solar"};
+    static const bt_build_fn build[] = {bt_spring, bt_lj2, bt_stiff, bt_all10, bt_solar};
+    static const int bodies[] = {1, 2, 1, 10, 10}, links[] = {1, 1, 1, 45, 45};
+    static const int verlet[] = {1, 1, 0, 1, 1}; /* stiff: omega dt = 100, Verlet blows up */
+    const edmi_real dts[] = {EDMI_R(1e-3), EDMI_R(1e-3), EDMI_R(0.1), BS_PAIRS_DT, BS_SOLAR_DT};
     bt_run base, run;
     bt_steps each;
     int scene, scheme, failed = 0;
@@ -491,27 +482,37 @@ static int bt_scene_table(void)
                          "iterations/step (max) | instructions/iteration | fallback steps | "
                          "stack high-water (bytes) |\n");
     tgt_puts("|---|---|---:|---:|---:|---:|---:|---:|\n");
-    for (scene = 0; scene < 3; scene++)
-        for (scheme = EDMI_MP; scheme <= EDMI_PT; scheme++) {
+    for (scene = 0; scene < 5; scene++)
+        for (scheme = EDMI_MP; scheme <= EDMI_PT + verlet[scene]; scheme++) {
             unsigned long long insns;
             edmi_status s = EDMI_OK;
+            int vv = scheme > EDMI_PT;
             tgt_puts("| ");
             tgt_puts(scene_name[scene]);
             tgt_puts(" | ");
-            tgt_puts(bt_scheme_name[scheme]);
+            tgt_puts(vv ? "Verlet" : bt_scheme_name[scheme]);
             tgt_puts(" | ");
-            if (bodies[scene] > EDMI_MAX_BODIES) {
-                tgt_puts("n/a: needs EDMI_MAX_BODIES >= 2 | | | | | |\n");
+            if (bodies[scene] > EDMI_MAX_BODIES || links[scene] > EDMI_MAX_LINKS) {
+                tgt_puts("n/a: needs EDMI_MAX_BODIES >= ");
+                tgt_put_uint((unsigned long)bodies[scene]);
+                tgt_puts(", EDMI_MAX_LINKS >= ");
+                tgt_put_uint((unsigned long)links[scene]);
+                tgt_puts(" | | | | | |\n");
                 continue;
             }
-            bt_step = edmi_step;
-            s = build[scene]((edmi_scheme)scheme);
-            if (s == EDMI_OK)
+            bt_step = vv ? bt_verlet : edmi_step;
+            s = build[scene](vv ? EDMI_MP : (edmi_scheme)scheme);
+            if (s == EDMI_OK) {
+                bs_verlet_start(&bt_sys);
                 bt_measure(BT_STEPS, dts[scene], &run);
+            }
             if (s == EDMI_OK && run.status == EDMI_OK && run.ticks != 0) {
-                s = build[scene]((edmi_scheme)scheme);
+                s = build[scene](vv ? EDMI_MP : (edmi_scheme)scheme);
+                bs_verlet_start(&bt_sys);
+                bt_timed = vv ? bt_verlet : edmi_step;
                 if (s == EDMI_OK)
                     bt_measure_steps(BT_STEPS, dts[scene], &each);
+                bt_timed = edmi_step;
             }
             if (s != EDMI_OK || run.status != EDMI_OK || run.ticks == 0 ||
                 each.status != EDMI_OK) {
@@ -530,12 +531,16 @@ static int bt_scene_table(void)
             tgt_puts(" | ");
             bt_put_long(each.worst);
             tgt_puts(" | ");
-            bt_put_ratio((unsigned long long)run.iterations, BT_STEPS, 2);
-            tgt_puts(" (");
-            tgt_put_uint((unsigned long)run.max_iterations);
-            tgt_puts(") | ");
-            bt_put_ratio(insns, (unsigned long long)run.iterations, 0);
-            tgt_puts(" | ");
+            if (vv) {
+                tgt_puts("- | - | ");
+            } else {
+                bt_put_ratio((unsigned long long)run.iterations, BT_STEPS, 2);
+                tgt_puts(" (");
+                tgt_put_uint((unsigned long)run.max_iterations);
+                tgt_puts(") | ");
+                bt_put_ratio(insns, (unsigned long long)run.iterations, 0);
+                tgt_puts(" | ");
+            }
             tgt_put_uint((unsigned long)each.fallbacks);
             tgt_puts(" | ");
             tgt_put_uint(run.stack);
