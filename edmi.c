@@ -1291,6 +1291,15 @@ static edmi__dw edmi__dw_of(edmi_real x)
     return r;
 }
 
+/* The double-word pair stored as x[0] (hi), x[1] (lo). */
+static edmi__dw edmi__dw_pair(const edmi_real x[2])
+{
+    edmi__dw r;
+    r.hi = x[0];
+    r.lo = x[1];
+    return r;
+}
+
 /* a + b exactly, for |a| >= |b| (or a == 0). */
 static edmi__dw edmi__fast_two_sum(edmi_real a, edmi_real b)
 {
@@ -1541,8 +1550,47 @@ static int edmi__same3(const edmi_real a[3], const edmi_real b[3])
 
 /* dv, scheme and err_v for the end state q1 (anchors at work->lw[j].x1). A term whose inputs
  * did not change is skipped: its change is exactly 0 (a body at rest certifies exactly). */
-static edmi_status edmi__delta_v(const edmi_system *sys, const edmi_workspace *work,
-                                 const edmi_real (*q1)[3], edmi__balance *bal)
+/* One link's terms of the balance (stored in its workspace: edmi__delta_v). */
+static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
+                                      const edmi_link *lk, const edmi_real (*q1)[3])
+{
+    edmi__dw r0[3], r1[3], s0, s1, d0, d1, v0, v1, dv, sc;
+    edmi_real e0, e1;
+    const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
+    const edmi_real *b1 = edmi__end_b(lk, w, q1);
+    edmi_status st;
+    w->bal_on = !(edmi__same3(sys->body[lk->a].q, q1[lk->a]) && edmi__same3(b0, b1));
+    if (!w->bal_on)
+        return EDMI_OK;
+    edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
+    edmi__dw_diff3(q1[lk->a], b1, r1);
+    s0 = edmi__dw_sq3(r0);
+    s1 = edmi__dw_sq3(r1);
+    d0 = edmi__dw_sqrt(s0);
+    d1 = edmi__dw_sqrt(s1);
+    st = edmi__pot_dw(&lk->pot, s0, d0, &v0, &e0);
+    if (st == EDMI_OK)
+        st = edmi__pot_dw(&lk->pot, s1, d1, &v1, &e1);
+    if (st != EDMI_OK)
+        return st;
+    dv = edmi__dw_sub(v1, v0);
+    /* the work of f = dt beta r_m over the step, per dt: beta (d_n+1^2 - d_n^2) / 2 */
+    sc = edmi__dw_sub(edmi__dw_mul_r(edmi__dw_sub(s1, s0), EDMI__HALF * w->beta), dv);
+    w->bal_dv[0] = dv.hi;
+    w->bal_dv[1] = dv.lo;
+    w->bal_sc[0] = sc.hi;
+    w->bal_sc[1] = sc.lo;
+    w->bal_err = e0 + e1;
+    w->bal_size = edmi__abs(v0.hi) + edmi__abs(v1.hi) + edmi__abs(w->beta) * (s0.hi + s1.hi);
+    return EDMI_OK;
+}
+
+/* V's change over the step into bal (dv, scheme, err_v, size_v), the links' terms kept in
+ * their workspaces: with moved = -1 every link is evaluated, with moved = a >= 0 (the guard
+ * moved body a's position since the last call) only the links at body a, the others' terms
+ * summed again as stored, in the same order: the sums are the full evaluation's. */
+static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
+                                 const edmi_real (*q1)[3], edmi__balance *bal, int moved)
 {
     int j, a;
     bal->dv = edmi__dw_of(EDMI__ZERO);
@@ -1551,33 +1599,18 @@ static edmi_status edmi__delta_v(const edmi_system *sys, const edmi_workspace *w
     bal->size_v = EDMI__ZERO;
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
-        const edmi_link_ws *w = &work->lw[j];
-        edmi__dw r0[3], r1[3], s0, s1, d0, d1, v0, v1, dv;
-        edmi_real e0, e1;
-        const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
-        const edmi_real *b1 = edmi__end_b(lk, w, q1);
-        edmi_status st;
-        if (edmi__same3(sys->body[lk->a].q, q1[lk->a]) && edmi__same3(b0, b1))
+        edmi_link_ws *w = &work->lw[j];
+        if (moved < 0 || lk->a == moved || lk->b == moved) {
+            edmi_status st = edmi__delta_v_link(sys, w, lk, q1);
+            if (st != EDMI_OK)
+                return st;
+        }
+        if (!w->bal_on)
             continue;
-        edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
-        edmi__dw_diff3(q1[lk->a], b1, r1);
-        s0 = edmi__dw_sq3(r0);
-        s1 = edmi__dw_sq3(r1);
-        d0 = edmi__dw_sqrt(s0);
-        d1 = edmi__dw_sqrt(s1);
-        st = edmi__pot_dw(&lk->pot, s0, d0, &v0, &e0);
-        if (st == EDMI_OK)
-            st = edmi__pot_dw(&lk->pot, s1, d1, &v1, &e1);
-        if (st != EDMI_OK)
-            return st;
-        dv = edmi__dw_sub(v1, v0);
-        bal->dv = edmi__dw_add(bal->dv, dv);
-        bal->err_v += e0 + e1;
-        bal->size_v += edmi__abs(v0.hi) + edmi__abs(v1.hi) + edmi__abs(w->beta) * (s0.hi + s1.hi);
-        /* the work of f = dt beta r_m over the step, per dt: beta (d_n+1^2 - d_n^2) / 2 */
-        bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_sub(edmi__dw_mul_r(edmi__dw_sub(s1, s0),
-                                                                           EDMI__HALF * w->beta),
-                                                            dv));
+        bal->dv = edmi__dw_add(bal->dv, edmi__dw_pair(w->bal_dv));
+        bal->err_v += w->bal_err;
+        bal->size_v += w->bal_size;
+        bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_pair(w->bal_sc));
     }
     if (sys->has_field) /* V = -sum m g . q */
         for (a = 0; a < sys->n_bodies; a++) {
@@ -1840,7 +1873,7 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
         m_ok = edmi__max(m_ok, c[j].u * c[j].u * edmi__dot(c[j].jq, c[j].jq));
     for (v = 0; v < qm->n; v++) { /* the position variants: energy, J change, residue */
         edmi_real dq[3];
-        int o[3];
+        int o[3], lo_v, hi_v;
         edmi__qvariant(v, o);
         bq[v] = EDMI__ZERO;
         for (j = 0; j < 3; j++) {
@@ -1851,7 +1884,15 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
         if (v < 7) /* the single-unit moves */
             m_ok = edmi__max(m_ok, edmi__dot(jq[v], jq[v]));
         rq[v] = edmi__frac(bq[v] / unit);
-        for (j = v; j > 0 && rq[order[j - 1]] > rq[v]; j--) /* insertion by residue */
+        /* stable insertion by residue: after every variant with a residue <= rq[v] */
+        for (lo_v = 0, hi_v = v; lo_v < hi_v;) {
+            int mid = (lo_v + hi_v) / 2;
+            if (rq[order[mid]] > rq[v])
+                hi_v = mid;
+            else
+                lo_v = mid + 1;
+        }
+        for (j = v; j > lo_v; j--)
             order[j] = order[j - 1];
         order[j] = v;
     }
@@ -1875,8 +1916,8 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
             }
             for (w = -2; w < 2 && w < qm->n - 2; w++) {
                 edmi_real err, dj[3], dl[3], m;
-                int kk[3];
-                v = order[(lo + w + 2 * qm->n) % qm->n];
+                int kk[3], at = lo + w; /* cyclic: lo in [0, n], w in [-2, 1] */
+                v = order[at < 0 ? at + qm->n : at >= qm->n ? at - qm->n : at];
                 if (!edmi__solve_coarse(&c[0], k3 < 0 ? -k3 : k3, k3 < 0, e12 + bq[v], goal, hi,
                                         &k0, &got))
                     continue;
@@ -2145,7 +2186,7 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
             work->q1[qm.a][j] += (edmi_real)o[j] * qm.u[j];
         res->guard_action |= EDMI_GUARD_ROUND;
         edmi__port_work(sys, work, res, bal);
-        if (edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, bal) != EDMI_OK)
+        if (edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, bal, qm.a) != EDMI_OK)
             return -1;
     }
     return 1;
@@ -2380,7 +2421,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         st = EDMI_ERR_RANGE; /* a port's work F . dq or a damper's loss beyond the range */
     if (st != EDMI_OK || (!guard && !sys->params.energy_balance))
         return st;
-    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal);
+    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
     if (st != EDMI_OK)
         return st;
     res->diss_scheme = edmi__dw_real(bal.scheme);
@@ -2438,7 +2479,7 @@ static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
         if (!edmi__finite3(w->f))
             return EDMI_ERR_RANGE;
     }
-    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal);
+    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
     if (st != EDMI_OK)
         return EDMI_ERR_PASSIVITY;
     wa = edmi__dw_real(bal.dv) + edmi__abs(bal.dv.lo) + bal.err_v;

@@ -308,6 +308,10 @@ typedef struct edmi_link_ws {
     edmi_real gamma;   /* the tangent block d f / d r_{n+1} = dt (beta/2 I + gamma r_m u^T) */
     edmi_real rm[3];   /* of the last evaluation, built only where a correction needs it */
     edmi_real u[3];
+    /* the link's terms of the step's energy balance: V change and scheme work (value and
+     * error of each as a double-word pair), error bound, size; bal_on: any end moved */
+    edmi_real bal_dv[2], bal_sc[2], bal_err, bal_size;
+    int bal_on;
 } edmi_link_ws;
 
 /** A scene as plain constant data (it can live in flash): the bodies, links and dampers
