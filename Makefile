@@ -92,10 +92,23 @@ CXX_BINS := $(CHECK)/cxx_header-double $(CHECK)/cxx_header-float
 CHECK_OBJS := $(CHECK)/edmi-double.o $(CHECK)/edmi-float.o \
               $(BUILD)/test-double/edmi.o $(BUILD)/test-float/edmi.o
 
+# The Newton matrix stored as a band (EDMI_MAX_MATRIX) against the dense store, bit for bit
+# (tests/band_store.c): 64 bodies, the band of a 63-body chain, under ASan+UBSan.
+BAND_CFG_dense := -DEDMI_MAX_BODIES=64 -DEDMI_MAX_LINKS=128
+BAND_CFG_narrow := $(BAND_CFG_dense) -DEDMI_MAX_MATRIX=3024 -DBAND_NARROW
+BAND_BINS := $(foreach r,double float,$(foreach v,dense narrow,$(BUILD)/band-$(r)-$(v)/band_store))
+$(BUILD)/band-%/band_store: tests/band_store.c edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(LIBFLAGS) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+	    -DEDMI_REAL=$(word 1,$(subst -, ,$*)) $(BAND_CFG_$(word 2,$(subst -, ,$*))) -I. \
+	    tests/band_store.c edmi.c -o $@ $(LDLIBS)
+BAND_RUNS := $(foreach r,double float,'bash tests/band_check.sh $(BUILD)/band-$(r)-dense/band_store \
+             $(BUILD)/band-$(r)-narrow/band_store')
+
 # Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
-test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(REPLAY_BINS)
+test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(REPLAY_BINS) $(BAND_BINS)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
-	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' \
+	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(BAND_RUNS) \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)')
 

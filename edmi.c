@@ -853,8 +853,8 @@ static edmi_status edmi__solve3(const edmi_real m[9], const edmi_real b[3], edmi
     return EDMI_OK;
 }
 
-/* Scalar half-bandwidth of the Newton matrix: 3 * (largest body-index gap of a pair link) + 2. */
-static int edmi__bandwidth(const edmi_system *sys)
+/* The largest body-index gap of a pair link. */
+static int edmi__max_gap(const edmi_system *sys)
 {
     int j, w = 0;
     for (j = 0; j < sys->n_links; j++) {
@@ -865,71 +865,103 @@ static int edmi__bandwidth(const edmi_system *sys)
                 w = g;
         }
     }
-    return 3 * w + 2;
+    return w;
+}
+
+/* Scalar half-bandwidth of the Newton matrix: 3 * (largest body-index gap of a pair link) + 2. */
+static int edmi__bandwidth(const edmi_system *sys) { return 3 * edmi__max_gap(sys) + 2; }
+
+/* Width of a stored row of the Newton matrix of n unknowns, half-bandwidth kb: the band
+ * i - kb .. i + 2 kb (fill-in from row exchanges included), or the whole row. */
+static int edmi__row_width(int n, int kb) { return 3 * kb + 1 < n ? 3 * kb + 1 : n; }
+
+/* Whether the Newton matrix of n_bodies bodies, largest pair gap `gap`, fits EDMI_MAX_MATRIX
+ * (one body needs none: its 3x3 system is solved in closed form). */
+static int edmi__matrix_fits(int n_bodies, int gap)
+{
+    long n = 3L * n_bodies;
+    return n_bodies <= 1 || n * (long)edmi__row_width((int)n, 3 * gap + 2) <= (long)EDMI_MAX_MATRIX;
+}
+
+/* Row offsets of the band storage: row i holds W entries from column
+ * s_i = max(0, min(i - kb, n - W)), so element (i, j) is mat[row[i] + j], row[i] = i W - s_i
+ * (>= 0). With W = n (a dense band) row[i] = i n: the plain row-major matrix. */
+static void edmi__band_rows(int *row, int n, int kb)
+{
+    int w = edmi__row_width(n, kb), i;
+    for (i = 0; i < n; i++) {
+        int s0 = i - kb < n - w ? i - kb : n - w;
+        row[i] = i * w - (s0 > 0 ? s0 : 0);
+    }
 }
 
 /* Add the tangent block k = d(force on a)/d(q_a - q_b) of a force acting + on body a and -
- * on body b into the dense row-major n x n matrix g, rows of a scaled by ha, of b by hb. */
-static void edmi__scatter_pair(edmi_real *g, int n, int a, int b, const edmi_real k[9],
+ * on body b into the matrix g (element (i, j) at g[row[i] + j]), rows of a scaled by ha, of
+ * b by hb. */
+static void edmi__scatter_pair(edmi_real *g, const int *row, int a, int b, const edmi_real k[9],
                                edmi_real ha, edmi_real hb)
 {
     int r, c, ra = 3 * a, rb = 3 * b;
-    for (r = 0; r < 3; r++)
+    for (r = 0; r < 3; r++) {
+        edmi_real *ga = g + row[ra + r], *gb = g + row[rb + r];
         for (c = 0; c < 3; c++) {
             edmi_real v = k[3 * r + c];
-            g[(ra + r) * n + ra + c] += ha * v;
-            g[(ra + r) * n + rb + c] -= ha * v;
-            g[(rb + r) * n + ra + c] -= hb * v;
-            g[(rb + r) * n + rb + c] += hb * v;
+            ga[ra + c] += ha * v;
+            ga[rb + c] -= ha * v;
+            gb[ra + c] -= hb * v;
+            gb[rb + c] += hb * v;
         }
+    }
 }
 
 /* The same for a force on body a from a fixed anchor: only the (a, a) block. */
-static void edmi__scatter_anchor(edmi_real *g, int n, int a, const edmi_real k[9], edmi_real ha)
+static void edmi__scatter_anchor(edmi_real *g, const int *row, int a, const edmi_real k[9],
+                                 edmi_real ha)
 {
     int r, c, ra = 3 * a;
     for (r = 0; r < 3; r++)
         for (c = 0; c < 3; c++)
-            g[(ra + r) * n + ra + c] += ha * k[3 * r + c];
+            g[row[ra + r] + ra + c] += ha * k[3 * r + c];
 }
 
 /* A damper acts along a link that may be a pair or an anchor link. */
-static void edmi__scatter(edmi_real *g, int n, const edmi_link *lk, const edmi_real k[9],
+static void edmi__scatter(edmi_real *g, const int *row, const edmi_link *lk, const edmi_real k[9],
                           edmi_real ha, edmi_real hb)
 {
     if (lk->b == EDMI_ANCHOR)
-        edmi__scatter_anchor(g, n, lk->a, k, ha);
+        edmi__scatter_anchor(g, row, lk->a, k, ha);
     else
-        edmi__scatter_pair(g, n, lk->a, lk->b, k, ha, hb);
+        edmi__scatter_pair(g, row, lk->a, lk->b, k, ha, hb);
 }
 
-/* Assemble G = I + dt/(2 m_A) dR_p/dq1 (rows of body A) into the band of work->mat. */
+/* Assemble G = I + dt/(2 m_A) dR_p/dq1 (rows of body A) into the band storage of work->mat
+ * (work->row). */
 static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_real dt, int n,
                            int kb)
 {
     edmi_real *g = work->mat, ha, hb, k[9];
-    int i, j;
-    for (i = 0; i < n; i++) {
-        int lo = i - kb < 0 ? 0 : i - kb, hi = i + 2 * kb >= n ? n - 1 : i + 2 * kb;
-        for (j = lo; j <= hi; j++)
-            g[i * n + j] = EDMI__ZERO;
-        g[i * n + i] = EDMI__ONE;
-    }
+    const int *row = work->row;
+    int i, j, size = n * edmi__row_width(n, kb);
+    edmi__band_rows(work->row, n, kb);
+    for (i = 0; i < size; i++)
+        g[i] = EDMI__ZERO;
+    for (i = 0; i < n; i++)
+        g[row[i] + i] = EDMI__ONE;
     for (j = 0; j < work->n_pair; j++) {
         const edmi_link *lk = &sys->link[work->order[j]];
         edmi__link_tangent(&work->lw[work->order[j]], dt, k);
-        edmi__scatter_pair(g, n, lk->a, lk->b, k, work->h[lk->a], work->h[lk->b]);
+        edmi__scatter_pair(g, row, lk->a, lk->b, k, work->h[lk->a], work->h[lk->b]);
     }
     for (j = work->n_pair; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[work->order[j]];
         edmi__link_tangent(&work->lw[work->order[j]], dt, k);
-        edmi__scatter_anchor(g, n, lk->a, k, work->h[lk->a]);
+        edmi__scatter_anchor(g, row, lk->a, k, work->h[lk->a]);
     }
     for (j = 0; j < sys->n_dampers; j++) {
         const edmi_link *lk = &sys->link[sys->damper[j].link];
         ha = work->h[lk->a];
         hb = lk->b == EDMI_ANCHOR ? EDMI__ZERO : work->h[lk->b];
-        edmi__scatter(g, n, lk, work->kd[j], ha, hb);
+        edmi__scatter(g, row, lk, work->kd[j], ha, hb);
     }
 }
 
@@ -940,12 +972,13 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
  * are kept where they eliminated (g[i][k], i > k) and its pivot row in piv[k]: later
  * exchanges move only columns > k, so edmi__lu_solve replays the elimination on a right-hand
  * side in the same order, with the same operations as a fused solve. *upper: U's bandwidth. */
-static edmi_status edmi__lu_band(edmi_real *g, int n, int kb, int *piv, int *upper)
+static edmi_status edmi__lu_band(edmi_real *g, const int *row, int n, int kb, int *piv,
+                                 int *upper)
 {
     edmi_real amax = EDMI__ZERO;
     int i, j, k, up = kb;
     for (i = 0; i < n; i++) {
-        const edmi_real *gi = g + i * n;
+        const edmi_real *gi = g + row[i];
         int lo = i - kb < 0 ? 0 : i - kb, hi = i + kb >= n ? n - 1 : i + kb;
         for (j = lo; j <= hi; j++)
             amax = edmi__max(amax, edmi__abs(gi[j]));
@@ -953,18 +986,18 @@ static edmi_status edmi__lu_band(edmi_real *g, int n, int kb, int *piv, int *upp
     if (!(amax > EDMI__ZERO) || !edmi__finite(amax))
         return EDMI_ERR_SINGULAR;
     for (k = 0; k < n; k++) {
-        edmi_real *gk = g + k * n, best = edmi__abs(gk[k]), piv_k;
+        edmi_real *gk = g + row[k], best = edmi__abs(gk[k]), piv_k;
         int last = k + kb >= n ? n - 1 : k + kb, p = k, cmax;
         for (i = k + 1; i <= last; i++)
-            if (edmi__abs(g[i * n + k]) > best) {
-                best = edmi__abs(g[i * n + k]);
+            if (edmi__abs(g[row[i] + k]) > best) {
+                best = edmi__abs(g[row[i] + k]);
                 p = i;
             }
         if (!(best > EDMI_R(4.0) * EDMI_EPS * amax))
             return EDMI_ERR_SINGULAR;
         piv[k] = p;
         if (p != k) {
-            edmi_real *gp = g + p * n, t;
+            edmi_real *gp = g + row[p], t;
             up = 2 * kb;
             cmax = k + up >= n ? n - 1 : k + up;
             for (j = k; j <= cmax; j++) {
@@ -976,7 +1009,7 @@ static edmi_status edmi__lu_band(edmi_real *g, int n, int kb, int *piv, int *upp
         cmax = k + up >= n ? n - 1 : k + up;
         piv_k = gk[k];
         for (i = k + 1; i <= last; i++) {
-            edmi_real *gi = g + i * n, f = gi[k] / piv_k;
+            edmi_real *gi = g + row[i], f = gi[k] / piv_k;
             gi[k] = f;
             if (f == EDMI__ZERO)
                 continue;
@@ -989,8 +1022,8 @@ static edmi_status edmi__lu_band(edmi_real *g, int n, int kb, int *piv, int *upp
 }
 
 /* Solve L U x = rhs in place with edmi__lu_band's factors. */
-static void edmi__lu_solve(const edmi_real *g, edmi_real *rhs, int n, int kb, int upper,
-                           const int *piv)
+static void edmi__lu_solve(const edmi_real *g, const int *row, edmi_real *rhs, int n, int kb,
+                           int upper, const int *piv)
 {
     int i, j, k;
     for (k = 0; k < n; k++) {
@@ -1001,13 +1034,13 @@ static void edmi__lu_solve(const edmi_real *g, edmi_real *rhs, int n, int kb, in
             rhs[piv[k]] = t;
         }
         for (i = k + 1; i <= last; i++) {
-            edmi_real f = g[i * n + k];
+            edmi_real f = g[row[i] + k];
             if (f != EDMI__ZERO)
                 rhs[i] -= f * rhs[k];
         }
     }
     for (i = n - 1; i >= 0; i--) {
-        const edmi_real *gi = g + i * n;
+        const edmi_real *gi = g + row[i];
         int cmax = i + upper >= n ? n - 1 : i + upper;
         edmi_real s = rhs[i];
         for (j = i + 1; j <= cmax; j++)
@@ -1055,11 +1088,11 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         if (!reuse) {
             work->kb = edmi__bandwidth(sys);
             edmi__assemble(sys, work, dt, n, work->kb);
-            st = edmi__lu_band(work->mat, n, work->kb, work->piv, &work->upper);
+            st = edmi__lu_band(work->mat, work->row, n, work->kb, work->piv, &work->upper);
             if (st != EDMI_OK)
                 return st;
         }
-        edmi__lu_solve(work->mat, work->rhs, n, work->kb, work->upper, work->piv);
+        edmi__lu_solve(work->mat, work->row, work->rhs, n, work->kb, work->upper, work->piv);
     }
     for (a = 0; a < nb; a++) {
         edmi_real c = EDMI_R(2.0) * sys->body[a].m / dt;
@@ -1221,10 +1254,16 @@ static int edmi__counts_valid(const edmi_system *sys)
 }
 
 /* The system as a whole: what edmi_step and edmi_invariants_of check before they read it. */
+/* A Newton matrix store smaller than the dense one of EDMI_MAX_BODIES is checked where the
+ * system can outgrow it; the default (dense) holds every system and is never checked. */
+#define EDMI__MATRIX_BOUNDED (EDMI_MAX_MATRIX < 9L * EDMI_MAX_BODIES * EDMI_MAX_BODIES)
+
 static edmi_status edmi__validate_system(const edmi_system *sys)
 {
     int i;
     if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
+    if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies, edmi__max_gap(sys)))
         return EDMI_ERR_CAPACITY;
     if (!edmi__params_valid(&sys->params))
         return EDMI_ERR_PARAM;
@@ -2835,12 +2874,14 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
     n = 3 * sys->n_bodies;
     for (i = 0; i < n * n; i++)
         kmat[i] = EDMI__ZERO;
+    for (i = 0; i < n; i++) /* kmat is dense, row-major */
+        work->row[i] = i * n;
     for (j = 0; j < sys->n_links; j++) {
         edmi__link_tangent(&work->lw[j], dt, kl);
-        edmi__scatter(kmat, n, &sys->link[j], kl, EDMI__ONE, EDMI__ONE);
+        edmi__scatter(kmat, work->row, &sys->link[j], kl, EDMI__ONE, EDMI__ONE);
     }
     for (j = 0; j < sys->n_dampers; j++)
-        edmi__scatter(kmat, n, &sys->link[sys->damper[j].link], work->kd[j], EDMI__ONE,
+        edmi__scatter(kmat, work->row, &sys->link[sys->damper[j].link], work->kd[j], EDMI__ONE,
                       EDMI__ONE);
     return EDMI_OK;
 }
@@ -3035,7 +3076,8 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
         return EDMI_ERR_MASS;
     if (!edmi__finite3(q) || !edmi__finite3(p))
         return EDMI_ERR_NONFINITE;
-    if (!edmi__counts_valid(sys) || sys->n_bodies >= EDMI_MAX_BODIES)
+    if (!edmi__counts_valid(sys) || sys->n_bodies >= EDMI_MAX_BODIES ||
+        (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies + 1, edmi__max_gap(sys))))
         return EDMI_ERR_CAPACITY;
     bd = &sys->body[sys->n_bodies];
     bd->m = m;
@@ -3079,6 +3121,11 @@ static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_rea
         return EDMI_ERR_NONFINITE;
     if (sys->n_links >= EDMI_MAX_LINKS)
         return EDMI_ERR_CAPACITY;
+    if (EDMI__MATRIX_BOUNDED && b != EDMI_ANCHOR) {
+        int gap = edmi__max_gap(sys), g = a > b ? a - b : b - a;
+        if (!edmi__matrix_fits(sys->n_bodies, g > gap ? g : gap))
+            return EDMI_ERR_CAPACITY;
+    }
     edmi__write_link(&sys->link[sys->n_links], a, b, x ? x : origin, pot);
     if (index)
         *index = sys->n_links;
@@ -3180,7 +3227,7 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
 edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
 {
     edmi_params p;
-    int i;
+    int i, gap = 0;
     if (!sys || !scene || (scene->n_bodies > 0 && !scene->bodies) ||
         (scene->n_links > 0 && !scene->links) || (scene->n_dampers > 0 && !scene->dampers))
         return EDMI_ERR_NULL;
@@ -3208,7 +3255,11 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
             return EDMI_ERR_PARAM;
         if (!edmi__finite3(lk->anchor))
             return EDMI_ERR_NONFINITE;
+        if (lk->b != EDMI_ANCHOR && (lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a) > gap)
+            gap = lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a;
     }
+    if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(scene->n_bodies, gap))
+        return EDMI_ERR_CAPACITY;
     for (i = 0; i < scene->n_dampers; i++) {
         const edmi_damper *d = &scene->dampers[i];
         if (d->link < 0 || d->link >= scene->n_links)

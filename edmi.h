@@ -33,10 +33,20 @@
 #endif
 
 /** Bodies per system. Costs 10 reals + 1 int per body in edmi_system (state and force port)
- *  and 9*EDMI_MAX_BODIES^2 + 20*EDMI_MAX_BODIES reals in edmi_workspace: the Newton matrix
- *  is stored dense, but only its band is touched (see README, "solver"). */
+ *  and 21 reals + 4 ints per body in edmi_workspace, plus the Newton matrix (EDMI_MAX_MATRIX). */
 #ifndef EDMI_MAX_BODIES
 #define EDMI_MAX_BODIES 16
+#endif
+
+/** Reals in edmi_workspace's Newton matrix. The matrix of N > 1 bodies is stored by rows of
+ *  width W = min(3N, 3 kb + 1) around the diagonal, kb = 3 g + 2 its half-bandwidth and g the
+ *  largest body-index gap of a pair link: 3N W reals (the band with its pivoting fill-in).
+ *  The default holds the dense matrix of EDMI_MAX_BODIES bodies, so every system fits; a
+ *  banded scene can set what its band needs, e.g. 48 N for a chain of N bodies linked to
+ *  neighbours (g = 1, W = 16), and an edmi_add_body() or edmi_add_pair() that would not fit
+ *  returns EDMI_ERR_CAPACITY (see README, "solver"). */
+#ifndef EDMI_MAX_MATRIX
+#define EDMI_MAX_MATRIX (9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES)
 #endif
 
 /** Links (pair or anchor) per system. Costs one edmi_link (2 ints, 5 reals, an enum and 3
@@ -340,7 +350,8 @@ typedef struct edmi_workspace {
     edmi_real dp[EDMI_MAX_BODIES][3]; /* Newton correction of p */
     edmi_real h[EDMI_MAX_BODIES];     /* dt / (2 m) per body, the Newton matrix's row scales */
     edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
-    edmi_real mat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES]; /* Newton matrix, row-major */
+    edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
+    int row[3 * EDMI_MAX_BODIES];
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
     int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
