@@ -33,7 +33,7 @@
 #endif
 
 /** Bodies per system. Costs 10 reals + 1 int per body in edmi_system (state and force port)
- *  and 21 reals + 4 ints per body in edmi_workspace, plus the Newton matrix (EDMI_MAX_MATRIX). */
+ *  and 21 reals + 6 ints per body in edmi_workspace, plus the Newton matrix (EDMI_MAX_MATRIX). */
 #ifndef EDMI_MAX_BODIES
 #define EDMI_MAX_BODIES 16
 #endif
@@ -51,7 +51,7 @@
 
 /** Links (pair or anchor) per system. Costs one edmi_link (2 ints, 5 reals, an enum and 3
  *  pointers, plus padding), 6 reals and an int (moving anchor, link force) in edmi_system
- *  and 26 reals and an int in edmi_workspace per link. */
+ *  and 30 reals and 2 ints in edmi_workspace per link. */
 #ifndef EDMI_MAX_LINKS
 #define EDMI_MAX_LINKS 64
 #endif
@@ -351,9 +351,9 @@ typedef struct edmi_workspace {
     edmi_real h[EDMI_MAX_BODIES];     /* dt / (2 m) per body, the Newton matrix's row scales */
     edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
     edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
-    int row[3 * EDMI_MAX_BODIES];
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
+    int row[3 * EDMI_MAX_BODIES];      /* the Newton matrix's row offsets */
     int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
     int n_pair;
     int piv[3 * EDMI_MAX_BODIES];      /* the factored Newton matrix's pivot rows */

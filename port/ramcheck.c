@@ -27,10 +27,12 @@
  *     s = up(s, R) + 3R*N + 4 + 4L                               force[N][3], n_moving, moving[L]
  *     s = up(s, R) + 6R*L                                        anchor_next[L][3], link_force[L][3]
  *     sizeof(edmi_system) = up(s, RP)
- *   edmi_link_ws   = 26R                                 r0[3], 8 scalars, x1[3], f[3], k[9]
- *   edmi_workspace = up((9N^2 + 20N) R + L*26R + D*9R + 4L + 4, R)  reals, order[L], n_pair
- * The 20N reals are q1, p1, rq, rp, dp, rhs (3 each) and sq, sp (1 each); 9N^2 is the
- * Newton matrix; 9 reals per damper its tangent block. */
+ *   edmi_link_ws   = up(30R + 4, R)     r0[3], 8 scalars, x1[3], f[3], gamma, rm[3], u[3],
+ *                                       the balance's 6 reals, bal_on
+ *   edmi_workspace = up((M + 21N + 9D) R + L*edmi_link_ws + 4(6N + L + 3), R)
+ *                    reals, lw[L], then the ints row[3N], order[L], n_pair, piv[3N], kb, upper
+ * The 21N reals are q1, p1, rq, rp, dp, rhs (3 each) and sq, sp, h (1 each); M =
+ * EDMI_MAX_MATRIX (default 9N^2) is the Newton matrix; 9 reals per damper its tangent block. */
 #include "../edmi.h"
 
 #define TGT_UP(x, a) ((((x) + (a) - 1u) / (a)) * (a))
@@ -55,33 +57,33 @@
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
 #define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L)
 #define TGT_SYSTEM TGT_UP(TGT_S6, TGT_RP)
-#define TGT_LINK_WS (26u * TGT_R)
+#define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
+#define TGT_LINK_WS TGT_UP(30u * TGT_R + 4u, TGT_R)
 #define TGT_WORKSPACE                                                                         \
-    TGT_UP((9u * TGT_N * TGT_N + 20u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +     \
-               4u * TGT_L + 4u,                                                               \
+    TGT_UP((TGT_M + 21u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                  \
+               4u * (6u * TGT_N + TGT_L + 3u),                                                \
            TGT_R)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
- * K + 9R N^2 + b N + l L + d D + pad:
- *   float:  K = 80 with 1-byte enums (arm-none-eabi), 88 with 4-byte ones; b = 124, d = 44;
- *           l = 180 with 4-byte pointers, 200 with 8-byte ones; pad = 0 with 4-byte
+ * K + R M + b N + l L + d D + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
+ *   float:  K = 88 with 1-byte enums (arm-none-eabi), 96 with 4-byte ones; b = 152, d = 44;
+ *           l = 200 with 4-byte pointers, 220 with 8-byte ones; pad = 0 with 4-byte
  *           pointers, else 4 when N is odd (alignment of link[] after body[N]) + 4 when L is
  *           even (the system's tail, rounded up to the pointers' 8)
- *   double: K = 124 with 1-byte enums, 132 with 4-byte ones; b = 244, d = 88;
- *           l = 336 with 4-byte pointers, 344 with 8-byte ones; pad = 4 when N is even (the
+ *   double: K = 132 with 1-byte enums, 140 with 4-byte ones; b = 276, d = 88;
+ *           l = 376 with 4-byte pointers, 384 with 8-byte ones; pad = 4 when N is even (the
  *           int array forced[N] before force[N][3]) + 8 when L is even (the int arrays
- *           moving[L] before anchor_next[L][3], and the workspace's order[L], n_pair rounded
- *           up to 8) */
-#define TGT_CLOSED_K ((TGT_R == 4u ? 80u : 124u) + (TGT_E == 4u ? 8u : 0u))
-#define TGT_CLOSED_B (TGT_R == 4u ? 124u : 244u)
-#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 180u : 336u) : (TGT_R == 4u ? 200u : 344u))
+ *           moving[L] before anchor_next[L][3], and the workspace's int tail rounded up to 8) */
+#define TGT_CLOSED_K ((TGT_R == 4u ? 88u : 132u) + (TGT_E == 4u ? 8u : 0u))
+#define TGT_CLOSED_B (TGT_R == 4u ? 152u : 276u)
+#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 200u : 376u) : (TGT_R == 4u ? 220u : 384u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_PAD                                                                      \
     (TGT_R == 8u   ? (TGT_N % 2u == 0u ? 4u : 0u) + (TGT_L % 2u == 0u ? 8u : 0u)             \
      : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) + (TGT_L % 2u == 0u ? 4u : 0u)             \
                    : 0u)
 #define TGT_CLOSED                                                                          \
-    (TGT_CLOSED_K + 9u * TGT_R * TGT_N * TGT_N + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L + \
+    (TGT_CLOSED_K + TGT_R * TGT_M + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L +             \
      TGT_CLOSED_D * TGT_D + TGT_CLOSED_PAD)
 #define TGT_TOTAL ((unsigned long)(sizeof(edmi_system) + sizeof(edmi_workspace)))
 
