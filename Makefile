@@ -132,8 +132,10 @@ CLANG ?= clang
 LLVM_PROFDATA ?= llvm-profdata
 LLVM_COV ?= llvm-cov
 FUZZ_TIME ?= 60
-# Small capacities, so that inputs reach every EDMI_ERR_CAPACITY boundary.
-FUZZ_CAP := -DEDMI_MAX_BODIES=6 -DEDMI_MAX_LINKS=12 -DEDMI_MAX_DAMPERS=4
+# Small capacities, so that inputs reach every EDMI_ERR_CAPACITY boundary. The Newton matrix
+# store of 300 reals holds the dense matrix up to 5 bodies and, at 6, only a band of pair gap
+# 1 (18 rows of 16): the band layout and its refusals are fuzzed too.
+FUZZ_CAP := -DEDMI_MAX_BODIES=6 -DEDMI_MAX_LINKS=12 -DEDMI_MAX_DAMPERS=4 -DEDMI_MAX_MATRIX=300
 FUZZ_FLAGS := -std=c99 -g -ffp-contract=off -fno-math-errno $(FUZZ_CAP)
 FUZZ_SRC := edmi.c tests/passive.c tests/fuzz/fuzz_api.c
 FUZZ_DEPS := $(FUZZ_SRC) edmi.h tests/passive.h
