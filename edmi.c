@@ -2784,8 +2784,13 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         return EDMI_OK;
     for (l = 1;; l++) {
         /* a chord correction where the factorisation costs more than it saves: after a full
-         * correction that contracted (the first, Newton's, always counts) */
+         * correction that contracted (the first, Newton's, always counts), and only when
+         * Newton runs to its floor: with tol_r or tol_a a linearly contracting iteration stops
+         * just below the tolerance, where Newton's quadratic last step lands far below it
+         * (measured: the solar system with the paper's tol_R = 1e-12, LG-Q/GE, max |dH| 3.1e-11
+         * instead of 2.3e-12, in 10.2 corrections per step instead of 3.4) */
         chord = l >= 2 && sys->n_bodies > 1 && moved == EDMI__ONE && contracted &&
+                !(prm->tol_r > EDMI__ZERO) && !(prm->tol_a > EDMI__ZERO) &&
                 edmi__chord_pays(sys, work);
         st = edmi__newton_update(sys, work, dt, chord);
         if (st == EDMI_ERR_SINGULAR && l == 1) {
