@@ -13,6 +13,12 @@
 #                       (wall time), then examples/bench_cost.sh: callgrind instructions per
 #                       step, per correction and per link, and against velocity Verlet
 #   make guard-cost     the passivity guard's host cost, callgrind (examples/guard_cost.c)
+#   make study          what accuracy costs in time (examples/study/): every scheme, velocity
+#                       Verlet, semi-implicit Euler and GSL's rk2imp, rk4imp and rk4 on five
+#                       scenes; errors against a converged reference, callgrind instructions,
+#                       wall time; tables into examples/study/RESULTS.md, figures
+#                       examples/figures/study_*.png. STUDY_QUICK=1: the CI subset (two
+#                       scenes, three dt's; its tables and figures stay in build/study-quick/)
 #   make haptic         examples/haptic.c, the 1 kHz virtual coupling: its table, the CSV
 #                       $(BUILD)/plots/haptic.csv and examples/figures/haptic_energy.png
 #                       (gnuplot); `make plots` draws the same figure
@@ -36,7 +42,7 @@ SIM_BENCH_CAP := -DEDMI_MAX_BODIES=128 -DEDMI_MAX_LINKS=8192
 # runs the ten-body scene about 30% faster. `make SIM_OPT=` uses CFLAGS alone.
 SIM_OPT ?= -O3
 
-.PHONY: sim test-scene run-examples plots bench guard-cost haptic
+.PHONY: sim test-scene run-examples plots bench guard-cost haptic study
 
 all: $(SIM_BIN) $(SIM_TEST)
 sim: $(SIM_BIN) $(SIM_TEST)
@@ -109,3 +115,24 @@ guard-cost: $(GC_DIR)/guard_cost-float $(GC_DIR)/guard_cost-double
 	        printf "%-6s PM guard on %7.0f, guard off %7.0f, velocity Verlet %4.0f instructions/step; on/off %.2f\n", \
 	        r, on/1000, off/1000, vv/1000, on/off}'; \
 	done
+
+# ---- the work-precision study (examples/study/) ----------------------------------------------
+# GSL (Debian: libgsl-dev) for its odeiv2 steppers and the reference; valgrind; gnuplot.
+STUDY := $(BUILD)/study
+STUDY_SRC := examples/study/study.c $(SIM_SRC)/scene.c edmi.c
+STUDY_QUICK ?= 0
+$(STUDY)/study-double: $(STUDY_SRC) $(SIM_SRC)/scene.h edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=double -DSTUDY_GSL -I. -I$(SIM_SRC) $(STUDY_SRC) \
+	    -o $@ -lgsl -lgslcblas $(LDLIBS)
+$(STUDY)/study-float: $(STUDY_SRC) $(SIM_SRC)/scene.h edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=float -I. -I$(SIM_SRC) $(STUDY_SRC) -o $@ $(LDLIBS)
+
+STUDY_OUT := $(STUDY)$(if $(filter 1,$(STUDY_QUICK)),-quick)
+study: $(STUDY)/study-double $(STUDY)/study-float
+	mkdir -p $(STUDY_OUT)
+	$(MAKE) --no-print-directory study-target > $(STUDY_OUT)/m4f.log 2>&1 || \
+	    { cat $(STUDY_OUT)/m4f.log; exit 1; }
+	STUDY_QUICK=$(STUDY_QUICK) bash examples/study/run_study.sh $^ $(STUDY_OUT) \
+	    $(if $(filter 1,$(STUDY_QUICK)),$(STUDY_OUT)/figures,$(SIM_FIGURES)) $(SIM_JOBS)

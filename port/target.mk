@@ -88,7 +88,7 @@ tgt_capdefs = -DEDMI_MAX_BODIES=$(word 1,$(subst -, ,$(1))) \
               -DEDMI_MAX_DAMPERS=$(word 3,$(subst -, ,$(1))) \
               $(if $(word 4,$(subst -, ,$(1))),-DEDMI_MAX_MATRIX=$(word 4,$(subst -, ,$(1))))
 
-.PHONY: tgt-cross test-target bench-target haptic-target check-ram check-sqrt check-port \
+.PHONY: tgt-cross test-target bench-target haptic-target check-ram check-sqrt check-port study-target \
         smoke-target
 cross: tgt-cross
 
@@ -301,3 +301,11 @@ check-port: $(TGT_RAM_HOST) $(TGT_RAM_CROSS) $(TGT)/sqrtcheck
 
 TGT_COMMA := ,
 .DEFAULT_GOAL := $(TGT_SAVED_GOAL)
+
+# The work-precision study's Cortex-M4F column (port/study_target.c; `make study` runs it).
+$(TGT)/an386/study_target.elf: $(TGT)/an386/edmi.o $(TGT_RT_an386) $(TGT)/an386/app-study_target.o \
+		$(TGT_LD)
+	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $(filter %.o,$^) -lm -lc -lgcc -o $@
+study-target: $(TGT)/an386/study_target.elf
+	$(TGT_RUN) $(TGT_MACHINE_an386) $< -icount shift=0
