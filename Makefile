@@ -106,9 +106,10 @@ BAND_RUNS := $(foreach r,double float,'bash tests/band_check.sh $(BUILD)/band-$(
              $(BUILD)/band-$(r)-narrow/band_store')
 
 # Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
-test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(REPLAY_BINS) $(BAND_BINS)
+test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLAY_BINS) $(BAND_BINS)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
-	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(BAND_RUNS) \
+	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(SIM_REF_TESTS) \
+	    $(BAND_RUNS) \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)')
 

@@ -59,6 +59,15 @@ $(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)
 $(SIM_TEST): $(SIM_SRC)/test_scene.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/edmi.o edmi.h | $(HOST)
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/sim_scene.o $(HOST)/edmi.o -o $@ $(LDLIBS)
 
+# edmi-sim --ref's tests (examples/sim/test_ref.sh), with a double and a float edmi-sim built
+# here for them whatever EDMI_REAL is.
+SIM_REF_BINS := $(BUILD)/simref/double/edmi-sim $(BUILD)/simref/float/edmi-sim
+$(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c edmi.c \
+	    -o $@ $(LDLIBS)
+SIM_REF_TESTS := $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)')
+
 # Last line: "N passed, N failed" (tests/run_all.sh can take "$(SIM_TEST) $(SIM_SCENES)").
 test-scene: $(SIM_TEST)
 	$(SIM_TEST) $(SIM_SCENES)

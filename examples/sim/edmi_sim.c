@@ -4,11 +4,13 @@
  *   edmi-sim SCENE [--scheme mp|lg|ge|pm|pt] [--dt X] [--t-end X] [--tol-q X] [--tol-r X]
  *            [--tol-a X] [--l-max N] [--lg-switch closed|janz|gonzalez|ge|pm|pt]
  *            [--guard auto|on|off] [--fallback on|off] [--every K] [--csv FILE]
- *            [--energy-balance] [--row] [--label TEXT] [--quiet] [--emit-c]
+ *            [--energy-balance] [--ref FILE|converged] [--row] [--label TEXT] [--quiet]
+ *            [--emit-c]
  *
  * Prints a summary (steps, time, wall time, Newton iterations, final and maximum
  * |H - H0|/|H0|, maximum |J - J0|, |L - L0|, |C - C0|) or, with --row, one Markdown table row;
- * optionally a CSV trace. Exit status: 0 success, 1 a step or invariant evaluation failed,
+ * optionally a CSV trace; with --ref, the trajectory error against an earlier trace or a
+ * converged run of its own. Exit status: 0 success, 1 a step or invariant evaluation failed,
  * 2 a usage or scene error. Hosted C99 (stdio, POSIX clock and isatty); builds in double or
  * float (EDMI_REAL).
  */
@@ -47,6 +49,13 @@ static const char *const usage_text =
     "  --digits N                significant digits of q and p in the CSV (default 17)\n"
     "  --energy-balance          check H_n+1 - H_n = W_ext + W_anchor - D_scheme - D_damping\n"
     "                            - D_guard each step\n"
+    "  --ref FILE                trajectory error against a trace FILE written earlier by\n"
+    "                            --csv (any scheme, dt, --every or precision): at every time\n"
+    "                            FILE has a row for (within 1e-9 of the step), the largest\n"
+    "                            |q - q_ref| and |p - p_ref| over bodies, and |H - H_ref|\n"
+    "  --ref converged           the error at t_end against the same run at dt/2, dt/4, ...\n"
+    "                            (Newton to its floor) until two halvings agree to 1e-3 of it\n"
+    "                            (at most 6, or 10^8 steps); prints the reference's own error\n"
     "  --row                     print one Markdown table row instead of the summary\n"
     "  --label TEXT              the row's scheme column (default: derived from the options)\n"
     "  --quiet                   no progress report on stderr\n"
@@ -61,6 +70,7 @@ typedef struct sim_opts {
     const char *scene;
     const char *csv;
     const char *label;
+    const char *ref; /* --ref FILE, or "converged" */
     int has_scheme, has_switch, has_tol_q, has_tol_r, has_tol_a, has_l_max, has_guard,
         has_fallback;
     edmi_scheme scheme;
@@ -209,6 +219,8 @@ static void parse_args(int argc, char **argv, sim_opts *o)
                 usage_error("--digits: '%s' is more than 17%s", v, "");
         } else if (strcmp(name, "--csv") == 0) {
             o->csv = v;
+        } else if (strcmp(name, "--ref") == 0) {
+            o->ref = v;
         } else if (strcmp(name, "--label") == 0) {
             o->label = v;
         } else {
@@ -458,6 +470,257 @@ static void conserved(const sim_scene *s, int *j_ok, int *lc_ok, char *why, size
              field && s->n_forces ? ", " : "", s->n_forces ? "force ports" : "");
 }
 
+/* ---- --ref: trajectory error against a reference ------------------------------------------ */
+
+/* Errors of the current state against one reference state. */
+typedef struct sim_err {
+    long matched;          /* reference times compared */
+    double t_last;         /* the last of them */
+    double q_max, q_final; /* max over bodies of |q - q_ref|: largest over the matched times,
+                              and at the last one */
+    double p_max, p_final; /* the same for p */
+    double h_max;          /* max |H - H_ref| / |H_ref at the first matched time| */
+    double h_scale;
+} sim_err;
+
+/* A trace written by --csv, read one row at a time as the run reaches its times. */
+typedef struct sim_ref {
+    FILE *f;
+    const char *path;
+    long line;
+    int have;                 /* row below holds an unread reference row */
+    double t, h;
+    double q[EDMI_MAX_BODIES][3], p[EDMI_MAX_BODIES][3];
+} sim_ref;
+
+#define SIM_REF_COLUMNS 19 /* t .. D_damping before the bodies (csv_header) */
+
+static void ref_fail(const sim_ref *r, const char *what)
+{
+    if (r->line > 0)
+        fprintf(stderr, "edmi-sim: %s:%ld: %s\n", r->path, r->line, what);
+    else
+        fprintf(stderr, "edmi-sim: %s: %s\n", r->path, what);
+    exit(2);
+}
+
+static void ref_open(sim_ref *r, const char *path, int n_bodies)
+{
+    char line[SIM_LINE_MAX * 8];
+    int commas = 0;
+    const char *c;
+    memset(r, 0, sizeof *r);
+    r->path = path;
+    r->f = fopen(path, "r");
+    if (!r->f) {
+        fprintf(stderr, "edmi-sim: --ref %s: %s\n", path, strerror(errno));
+        exit(2);
+    }
+    if (!fgets(line, sizeof line, r->f) || strncmp(line, "t,H,dH_rel,", 11) != 0)
+        ref_fail(r, "not an edmi-sim --csv trace (no header line \"t,H,dH_rel,...\")");
+    r->line = 1;
+    for (c = line; *c; c++)
+        commas += *c == ',';
+    if (commas + 1 != SIM_REF_COLUMNS + 6 * n_bodies) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "the trace has %d bodies, the scene %d",
+                 (commas + 1 - SIM_REF_COLUMNS) / 6, n_bodies);
+        ref_fail(r, msg);
+    }
+}
+
+/* Read the next row into r; 0 at the end of the file. */
+static int ref_next(sim_ref *r, int n_bodies)
+{
+    char line[SIM_LINE_MAX * 8], *s, *e;
+    int col, b, i;
+    do {
+        if (!fgets(line, sizeof line, r->f))
+            return 0;
+        r->line++;
+    } while (line[0] == '\n');
+    if (!strchr(line, '\n') && !feof(r->f))
+        ref_fail(r, "line too long");
+    s = line;
+    for (col = 0; col < SIM_REF_COLUMNS + 6 * n_bodies; col++) {
+        double x = strtod(s, &e);
+        if (e == s || (*e != ',' && *e != '\n' && *e != '\0') ||
+            (col + 1 < SIM_REF_COLUMNS + 6 * n_bodies && *e != ',') || !isfinite(x))
+            ref_fail(r, "bad number or too few columns");
+        if (col == 0)
+            r->t = x;
+        else if (col == 1)
+            r->h = x;
+        else if (col >= SIM_REF_COLUMNS) {
+            b = (col - SIM_REF_COLUMNS) / 6;
+            i = (col - SIM_REF_COLUMNS) % 6;
+            if (i < 3)
+                r->q[b][i] = x;
+            else
+                r->p[b][i - 3] = x;
+        }
+        s = e + 1;
+    }
+    r->have = 1;
+    return 1;
+}
+
+/* Largest |q - q_ref| (from_p: |p - p_ref|) over the bodies of the current state. */
+static double state_err(const double (*xr)[3], int from_p)
+{
+    double worst = 0;
+    int b;
+    for (b = 0; b < sys.n_bodies; b++) {
+        const edmi_real *v = from_p ? sys.body[b].p : sys.body[b].q;
+        double d[3];
+        int i;
+        for (i = 0; i < 3; i++)
+            d[i] = (double)v[i] - xr[b][i];
+        if (norm3d(d) > worst)
+            worst = norm3d(d);
+    }
+    return worst;
+}
+
+static void err_add(sim_err *e, double t, double dq, double dp, double dh_abs, double h_ref)
+{
+    if (e->matched == 0)
+        e->h_scale = h_ref != 0.0 ? fabs(h_ref) : 1.0;
+    e->matched++;
+    e->t_last = t;
+    e->q_final = dq;
+    e->p_final = dp;
+    e->q_max = dq > e->q_max ? dq : e->q_max;
+    e->p_max = dp > e->p_max ? dp : e->p_max;
+    if (dh_abs / e->h_scale > e->h_max)
+        e->h_max = dh_abs / e->h_scale;
+}
+
+/* After a step (or at t = 0): compare with every reference row at this time, skipping the
+ * rows before it. Times match within 1e-9 of dt (t itself is compensated-summed). */
+static void ref_compare(sim_ref *r, sim_err *e, double t, double dt, double h)
+{
+    double tol = 1e-9 * dt;
+    while (r->have || ref_next(r, sys.n_bodies)) {
+        if (r->t < t - tol) { /* a reference time this run steps over */
+            r->have = 0;
+            continue;
+        }
+        if (r->t <= t + tol) {
+            err_add(e, t, state_err((const double(*)[3])r->q, 0),
+                    state_err((const double(*)[3])r->p, 1), fabs(h - r->h), r->h);
+            r->have = 0;
+        }
+        return;
+    }
+}
+
+/* Load the scene (and its ports) with the run's parameters, Newton to its floor. */
+static int load_for_reference(void)
+{
+    edmi_scene view = sim_scene_view(&scn);
+    edmi_params prm = scn.params;
+    int i;
+    prm.tol_r = 0;
+    prm.tol_a = 0;
+    view.params = &prm;
+    if (edmi_load_scene(&sys, &view) != EDMI_OK)
+        return -1;
+    for (i = 0; i < scn.n_forces; i++)
+        if (edmi_set_force(&sys, scn.force_body[i], scn.force[i]) != EDMI_OK)
+            return -1;
+    return 0;
+}
+
+/* The state at t_end, n steps of dt; -1 if a step fails. */
+static int final_state(double dt, long n, double q[][3], double p[][3])
+{
+    long k;
+    int b, i;
+    if (load_for_reference())
+        return -1;
+    for (k = 0; k < n; k++)
+        if (edmi_step(&sys, &work, (edmi_real)dt, NULL) != EDMI_OK)
+            return -1;
+    for (b = 0; b < sys.n_bodies; b++)
+        for (i = 0; i < 3; i++) {
+            q[b][i] = (double)sys.body[b].q[i];
+            p[b][i] = (double)sys.body[b].p[i];
+        }
+    return 0;
+}
+
+static double states_diff(const double (*a)[3], const double (*b)[3])
+{
+    double worst = 0;
+    int k;
+    for (k = 0; k < scn.n_bodies; k++) {
+        double d[3];
+        d[0] = a[k][0] - b[k][0];
+        d[1] = a[k][1] - b[k][1];
+        d[2] = a[k][2] - b[k][2];
+        if (norm3d(d) > worst)
+            worst = norm3d(d);
+    }
+    return worst;
+}
+
+#define SIM_REF_HALVINGS 6
+#define SIM_REF_STEPS 1e8
+#define SIM_REF_AGREE 1e-3
+
+typedef struct sim_conv {
+    int halvings;     /* dt / 2^halvings is the reference */
+    double q_err, p_err; /* the run's error at t_end against it */
+    double q_own;     /* the reference's own error: its last two halvings' difference */
+    int failed;       /* a halving's step failed: no reference */
+} sim_conv;
+
+/* --ref converged: halve dt until two successive halvings agree to SIM_REF_AGREE of the run's
+ * own error. q1, p1: the run's final state. The run's scene and system are reloaded. */
+static void converged_reference(double dt, long n, const double (*q1)[3],
+                                const double (*p1)[3], sim_conv *c)
+{
+    static double q[2][EDMI_MAX_BODIES][3], p[2][EDMI_MAX_BODIES][3];
+    int k, cur = 0;
+    memset(c, 0, sizeof *c);
+    for (k = 1; k <= SIM_REF_HALVINGS && (double)n * (double)(1L << k) <= SIM_REF_STEPS; k++) {
+        cur = k & 1;
+        if (final_state(dt / (double)(1L << k), n << k, q[cur], p[cur])) {
+            c->failed = 1;
+            return;
+        }
+        c->halvings = k;
+        c->q_err = states_diff(q1, (const double(*)[3])q[cur]);
+        c->p_err = states_diff(p1, (const double(*)[3])p[cur]);
+        if (k >= 2) {
+            c->q_own = states_diff((const double(*)[3])q[cur], (const double(*)[3])q[!cur]);
+            if (c->q_own <= SIM_REF_AGREE * c->q_err)
+                return;
+        }
+    }
+}
+
+static void print_ref(const sim_opts *o, const sim_err *e, const sim_conv *c, double dt)
+{
+    if (!o->ref)
+        return;
+    if (strcmp(o->ref, "converged") == 0) {
+        if (c->failed)
+            printf("vs ref    converged: a step of a halved run failed: no reference\n");
+        else
+            printf("vs ref    converged (dt/%ld = %.6g, Newton to its floor): at t_end "
+                   "max |q - q_ref| %.3e, max |p - p_ref| %.3e; the reference's own error "
+                   "%.1e (its last two halvings)\n", 1L << c->halvings,
+                   dt / (double)(1L << c->halvings), c->q_err, c->p_err, c->q_own);
+        return;
+    }
+    printf("vs ref    %s: %ld times compared (the last t = %.10g): max |q - q_ref| %.3e "
+           "(final %.3e), max |p - p_ref| %.3e (final %.3e), max |H - H_ref|/|H_ref| %.3e\n",
+           o->ref, e->matched, e->t_last, e->q_max, e->q_final, e->p_max, e->p_final,
+           e->h_max);
+}
+
 static void print_summary(const sim_opts *o, const sim_stats *st, double dt, long n_steps,
                           const edmi_invariants *inv0)
 {
@@ -528,7 +791,8 @@ static const char *cell(double v, int ok, char *buf, size_t n)
     return buf;
 }
 
-static void print_row(const sim_opts *o, const sim_stats *st)
+/* With --ref, two more cells: the largest and the final position error. */
+static void print_row(const sim_opts *o, const sim_stats *st, double q_max, double q_final)
 {
     char lbl[64], nm[64], cj[16], cl[16], cc[16], why[48];
     int j_ok, lc_ok;
@@ -537,11 +801,14 @@ static void print_row(const sim_opts *o, const sim_stats *st)
         snprintf(lbl, sizeof lbl, "%s", o->label);
     else
         scheme_label(&sys.params, lbl, sizeof lbl);
-    printf("| %-13s | %-15s | %7ld | %7.3f | %5.2f | %9.2e | %10.2e | %s | %s | %s |\n",
+    printf("| %-13s | %-15s | %7ld | %7.3f | %5.2f | %9.2e | %10.2e | %s | %s | %s |",
            base_name(o->scene, nm, sizeof nm), lbl, st->steps, st->wall,
            st->steps ? (double)st->iterations / (double)st->steps : 0.0, st->max_dh, st->final_dh,
            cell(st->max_dj, j_ok, cj, sizeof cj), cell(st->max_dl, lc_ok, cl, sizeof cl),
            cell(st->max_dc, lc_ok, cc, sizeof cc));
+    if (o->ref)
+        printf(" %9.2e | %9.2e |", q_max, q_final);
+    printf("\n");
 }
 
 static void progress(const sim_opts *o, long k, long n, double t0, double *next, int tty)
@@ -565,6 +832,11 @@ int main(int argc, char **argv)
     edmi_invariants inv0, inv, prev;
     edmi_status s;
     FILE *csv = 0;
+    static sim_ref ref;
+    static edmi_system run_sys;
+    sim_err rerr;
+    sim_conv conv;
+    int file_ref;
     double dt, t_end, t0, next_report = SIM_PROGRESS_AFTER;
     long n_steps, every, k;
     int i, tty, reported = 0, failed = 0, digits;
@@ -650,6 +922,13 @@ int main(int argc, char **argv)
         return 2;
     }
 
+    memset(&rerr, 0, sizeof rerr);
+    memset(&conv, 0, sizeof conv);
+    file_ref = o.ref && strcmp(o.ref, "converged") != 0;
+    if (file_ref) {
+        ref_open(&ref, o.ref, scn.n_bodies);
+        ref_compare(&ref, &rerr, 0.0, dt, (double)inv0.h);
+    }
     memset(&st, 0, sizeof st);
     st.h0 = (double)inv0.h;
     st.h_scale = st.h0 != 0.0 ? fabs(st.h0) : 1.0;
@@ -731,6 +1010,8 @@ int main(int argc, char **argv)
                 st.max_balance_scale = scale;
         }
         prev = inv;
+        if (file_ref)
+            ref_compare(&ref, &rerr, (double)sys.t, dt, (double)inv.h);
         if (csv && (k % every == 0 || k == n_steps))
             csv_row(csv, &inv, &st, dj, dl, dc, res.iterations, digits);
         if ((k & 63) == 0) {
@@ -748,9 +1029,34 @@ int main(int argc, char **argv)
         fprintf(stderr, "edmi-sim: writing %s: %s\n", o.csv, strerror(errno));
         return 1;
     }
-    if (o.row)
-        print_row(&o, &st);
-    else
+    if (file_ref) {
+        fclose(ref.f);
+        if (rerr.matched == 0) {
+            fprintf(stderr, "edmi-sim: %s: no row at a time of this run (t = 0 to %.10g, dt "
+                    "%.6g)\n", o.ref, (double)sys.t, dt);
+            return 2;
+        }
+    }
+    if (o.ref && !file_ref && !failed) {
+        static double q1[EDMI_MAX_BODIES][3], p1[EDMI_MAX_BODIES][3];
+        int b, c;
+        for (b = 0; b < sys.n_bodies; b++)
+            for (c = 0; c < 3; c++) {
+                q1[b][c] = (double)sys.body[b].q[c];
+                p1[b][c] = (double)sys.body[b].p[c];
+            }
+        run_sys = sys;
+        converged_reference(dt, n_steps, (const double(*)[3])q1, (const double(*)[3])p1,
+                            &conv);
+        sys = run_sys;
+        failed |= conv.failed;
+    }
+    if (o.row) {
+        print_row(&o, &st, file_ref ? rerr.q_max : conv.q_err,
+                  file_ref ? rerr.q_final : conv.q_err);
+    } else {
         print_summary(&o, &st, dt, n_steps, &inv0);
+        print_ref(&o, &rerr, &conv, dt);
+    }
     return failed;
 }
