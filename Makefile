@@ -7,6 +7,8 @@
 #   make fuzz-cov   edmi.c's line and branch coverage by the fuzz corpora
 #   make refs       regenerate tests/ref_track.h, the double reference the float suite tracks
 #   make cross      the library for a Cortex-M4F (float), its size, and its external references
+#   make study      what accuracy costs: error against instructions, every scheme and its peers
+#                   (examples/sim.mk, examples/study/)
 #   make clean
 # Override on the command line: make CC=clang CFLAGS='-O3' EDMI_REAL=float BUILD=out
 
