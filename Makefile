@@ -1,12 +1,14 @@
 # edmi build.
 #   make            library object and examples, in EDMI_REAL precision, into $(BUILD)/$(EDMI_REAL)/
-#   make run        the paper's stiff neo-Hookean spring (examples/paper_spring.c)
+#   make run        the main job: the spring's accuracy table (examples/paper_spring.c), then the
+#                   paper's three examples with every scheme (edmi-sim, make run-examples)
 #   make test       the test suite in four configurations + library checks; last line is the total
 #   make soak       the passivity guard's adversarial scenes, 10^6 steps per case (SOAK_STEPS)
 #   make fuzz       the API fuzzer, both precisions, FUZZ_TIME seconds each (clang, libFuzzer)
 #   make fuzz-cov   edmi.c's line and branch coverage by the fuzz corpora
 #   make refs       regenerate tests/ref_track.h, the double reference the float suite tracks
-#   make cross      the library for a Cortex-M4F (float), its size, and its external references
+#   make cross      the library for Cortex-M4F, M7, M0+ and rv32imac in float and double, their
+#                   sizes, capacity table and external references (port/target.mk)
 #   make study      what accuracy costs: error against instructions, every scheme and its peers
 #                   (examples/sim.mk, examples/study/)
 #   make clean

@@ -1,5 +1,7 @@
 /*
  * edmi.c: energy-decaying, momentum-conserving integrators (see edmi.h).
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the edmi authors (licence text: LICENSE).
  *
  * Follows the paper's order: potentials and their splits (section 3.1, 3.3) -> the five
  * algorithmic forces (section 4.1) -> the Newton predictor multi-corrector (section 3.4)

@@ -9,7 +9,10 @@
  * generalized Eyre (GE), perturbed mid-point (PM) and perturbed trapezoidal (PT), for bodies
  * coupled by pair potentials V(d) and bodies tied to fixed anchors.
  *
- * Version 0.1.0. Licence: MIT (see README.md).
+ * Version 0.1.0.
+ * SPDX-License-Identifier: MIT
+ * Copyright (c) 2026 the edmi authors. The MIT licence text is in LICENSE; this notice and
+ * that text go with every copy of edmi.h and edmi.c.
  */
 #ifndef EDMI_H
 #define EDMI_H

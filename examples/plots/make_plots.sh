@@ -13,7 +13,7 @@ jobs=${4:-2}
 P=examples/plots
 S=examples/scenes
 if ! command -v gnuplot >/dev/null 2>&1; then
-    echo "make plots: gnuplot not found; install it with: sudo apt-get install gnuplot-nox" >&2
+    echo "make plots: gnuplot not found; install it with: apt-get install -y --no-install-recommends gnuplot-nox (as root)" >&2
     exit 1
 fi
 mkdir -p "$data" "$fig"

@@ -171,6 +171,12 @@ static void parse_args(int argc, char **argv, sim_opts *o)
                 o->emit_c = 1;
             continue;
         }
+        if (strcmp(name, "--scheme") && strcmp(name, "--lg-switch") && strcmp(name, "--guard") &&
+            strcmp(name, "--fallback") && strcmp(name, "--dt") && strcmp(name, "--t-end") &&
+            strcmp(name, "--tol-q") && strcmp(name, "--tol-r") && strcmp(name, "--tol-a") &&
+            strcmp(name, "--l-max") && strcmp(name, "--csv") && strcmp(name, "--ref") &&
+            strcmp(name, "--every") && strcmp(name, "--digits") && strcmp(name, "--label"))
+            usage_error("unknown option '%s'%s", a, "");
         if (!v) {
             if (i + 1 >= argc)
                 usage_error("%s needs a value%s", name, "");

@@ -591,7 +591,7 @@ static int sim__key_damper(sim__ctx *c)
     int i;
     if (sim__count(c, 1, 2, names, "damper LINK c  or  damper all c"))
         return -1;
-    if (sim__positive(c, 2, "c", &cd))
+    if (sim__nonnegative(c, 2, "c", &cd))
         return -1;
     if (strcmp(c->tok[1], "all") == 0) {
         if (c->s->n_links == 0)
@@ -831,6 +831,12 @@ int sim_scene_load(const char *path, sim_scene *out, char *err, size_t err_size)
     f = fopen(path, "rb");
     if (!f) {
         snprintf(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    /* a directory opens, but its first read fails (EISDIR): say so, not its "size" */
+    if (fgetc(f) == EOF && ferror(f)) {
+        snprintf(err, err_size, "%s: cannot read: %s", path, strerror(errno));
+        fclose(f);
         return -1;
     }
     if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# edmi-sim --ref: trajectory error against a reference (`make test` runs it with the double
-# and the float edmi-sim).   usage: test_ref.sh EDMI_SIM SCENE_DIR double|float
+# edmi-sim --ref: trajectory error against a reference, and two command-line messages
+# (`make test` runs it with the double and the float edmi-sim).   usage: test_ref.sh EDMI_SIM SCENE_DIR double|float
 # Last line: "N passed, N failed".
 set -u
 sim=${1:?usage: test_ref.sh EDMI_SIM SCENE_DIR}
@@ -104,6 +104,21 @@ printf 'q,p\n' > "$tmp/other.csv"
 expect2 "not a trace" "$tmp/other.csv: not an edmi-sim --csv trace" "$tmp/other.csv"
 sed -n '1p;10000,$p' "$tmp/self.csv" > "$tmp/late.csv"
 expect2 "no common time" "$tmp/late.csv: no row at a time of this run" "$tmp/late.csv"
+
+# 5. Two command-line messages: an unknown flag is named as one (it used to ask for a value),
+#    and a directory is not read as a 16 MB file.
+out=$("$sim" "$spring" --verbose 2>&1); rc=$?
+if [ "$rc" -eq 2 ] && grep -qF "unknown option '--verbose'" <<<"$out"; then
+    ok "--verbose: exit 2, unknown option"
+else
+    bad "--verbose: exit $rc, output: $(head -1 <<<"$out")"
+fi
+out=$("$sim" "$tmp" 2>&1); rc=$?
+if [ "$rc" -eq 2 ] && grep -qF "$tmp: cannot read: Is a directory" <<<"$out"; then
+    ok "a directory as the scene: exit 2, 'Is a directory'"
+else
+    bad "a directory as the scene: exit $rc, output: $(head -1 <<<"$out")"
+fi
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -158,8 +158,10 @@ static void test_indices(void)
                  "damper: link index 1 out of range (1 links declared so far)");
     EXPECT_ERROR(TWO "pair 0 1 harmonic 1 1\ndamper x 0.5\n", "t.scene:4: ",
                  "damper: bad link index 'x'");
-    EXPECT_ERROR(TWO "pair 0 1 harmonic 1 1\ndamper 0 0\n", "t.scene:4: ",
-                 "damper: c = 0 must be > 0");
+    EXPECT_ERROR(TWO "pair 0 1 harmonic 1 1\ndamper 0 -1\n", "t.scene:4: ",
+                 "damper: c = -1 must be >= 0");
+    CHECK(parse_ok(TWO "pair 0 1 harmonic 1 1\ndamper 0 0\n") && scn.n_dampers == 1 &&
+          scn.damper[0].c == (edmi_real)0); /* as edmi_add_damper: c = 0 is a damper at rest */
     EXPECT_ERROR(TWO "damper all 1\n", "t.scene:3: ", "no links declared so far");
     EXPECT_ERROR(TWO "pairs some lj 1 1\n", "t.scene:3: ", "pairs: expected 'all', got 'some'");
     EXPECT_ERROR("body 1 0 0 0 0 0 0\npairs all lj 1 1\n", "t.scene:2: ",
