@@ -9,6 +9,14 @@
  */
 #include "edmi.h"
 
+/* edmi validates its input with NaN and infinity tests (x != x, |x| <= EDMI_REAL_MAX) and the
+ * passivity guard's double-word arithmetic needs every operation evaluated as written:
+ * -ffast-math (or -Ofast, -ffinite-math-only) would silently drop both (measured: 105 failed
+ * tests, every NaN/Inf check). */
+#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__)
+#error "edmi.c needs IEEE semantics: compile it without -ffast-math, -Ofast or -ffinite-math-only"
+#endif
+
 /* ==========================================================================================
  * Small helpers
  * ======================================================================================== */
@@ -3126,7 +3134,7 @@ edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real 
 edmi_params edmi_default_params(void)
 {
     edmi_params p;
-    p.scheme = EDMI_MP;
+    p.scheme = EDMI_PM; /* energy-safe: decays, never gains (README, "Energy-safe stepping") */
     p.lg_form = EDMI_LG_CLOSED;
     p.lg_alt = EDMI_ALT_JANZ;
     p.l_max = 20;

@@ -436,9 +436,9 @@ typedef struct edmi_invariants {
  * Build a system
  * ---------------------------------------------------------------------------------------- */
 
-/** \brief Defaults: scheme MP, LG closed form, alternate Janz, tol_Q 1e-8 (double; 1e-3 in
- *  float), tol_R = tol_A = 0 (Newton runs to its round-off floor), l_max 20, guard AUTO,
- *  no fallback, no energy_balance. */
+/** \brief Defaults: scheme PM (energy-safe: with the guard, H never rises), LG closed form,
+ *  alternate Janz, tol_Q 1e-8 (double; 1e-3 in float), tol_R = tol_A = 0 (Newton runs to its
+ *  round-off floor), l_max 20, guard AUTO, no fallback, no energy_balance. */
 edmi_params edmi_default_params(void);
 
 /** \brief Empty the system and set its parameters.

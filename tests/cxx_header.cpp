@@ -19,7 +19,7 @@ static void check(bool ok, const char *what)
 int main()
 {
     edmi_params prm = edmi_default_params();
-    check(prm.scheme == EDMI_MP && prm.l_max == 20, "edmi_default_params(): MP, l_max 20");
+    check(prm.scheme == EDMI_PM && prm.l_max == 20, "edmi_default_params(): PM, l_max 20");
     check(prm.tol_r == 0 && prm.tol_a == 0 && prm.tol_q > 0 && prm.guard == EDMI_GUARD_AUTO,
           "edmi_default_params(): Newton to its floor, guard auto");
     check(edmi_is_double_precision() == (sizeof(edmi_real) == sizeof(double) ? 1 : 0),

@@ -31,7 +31,7 @@
 
 static const char *const usage_text =
     "usage: edmi-sim SCENE [options]\n"
-    "  --scheme mp|lg|ge|pm|pt   algorithmic force (default: the scene's, else mp)\n"
+    "  --scheme mp|lg|ge|pm|pt   algorithmic force (default: the scene's, else pm)\n"
     "  --dt X                    time step (default: the scene's `set dt`)\n"
     "  --t-end X                 end time; runs round(t_end/dt) steps (default: `set t_end`)\n"
     "  --tol-q X, --tol-r X, --tol-a X, --l-max N   Newton and LG quotient settings\n"
