@@ -3484,3 +3484,9 @@ const char *edmi_status_name(edmi_status s)
 }
 
 int edmi_is_double_precision(void) { return EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_; }
+
+int edmi_config_matches(unsigned long system_size, unsigned long workspace_size)
+{
+    return system_size == (unsigned long)sizeof(edmi_system) &&
+           workspace_size == (unsigned long)sizeof(edmi_workspace);
+}

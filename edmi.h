@@ -252,7 +252,16 @@ typedef struct edmi_potential {
     void *ctx;           /*!< EDMI_POT_USER: passed to fn and dd */
 } edmi_potential;
 
-/** A body: diagonal mass, position and momentum. */
+/** A body: diagonal mass, position and momentum.
+ *
+ *  State access: between edmi_step() calls the caller may read and write sys.body[i].q, .p
+ *  and .m directly (a tracked object's position, a reset, a new load). The next edmi_step()
+ *  checks them (non-finite: EDMI_ERR_NONFINITE; m <= 0: EDMI_ERR_MASS; the system unchanged)
+ *  and starts from them exactly as a system built with that state would: nothing about a
+ *  body is cached between steps. Energy put in or taken out by such a write is not in any
+ *  step's energy balance and not bounded by the guard, which holds from the written state
+ *  on. Never write during an edmi_step() call (edmi keeps no locks), and add bodies, links
+ *  and dampers only through edmi_add_*() or edmi_load_scene(). */
 typedef struct edmi_body {
     edmi_real m;    /*!< mass [M] */
     edmi_real q[3]; /*!< position [L] */
@@ -588,6 +597,16 @@ const char *edmi_status_name(edmi_status s);
 /** \brief 1 if this build uses double precision, 0 if float: check it against the
  *  header your code was compiled with, since the precision changes the ABI. */
 int edmi_is_double_precision(void);
+
+/** \brief 1 if the caller's edmi_system and edmi_workspace have the library's sizes, 0 if
+ *  not: EDMI_REAL or an EDMI_MAX_* capacity (an EDMI_USER_CONFIG file) differs between the
+ *  caller's translation unit and edmi.c, and every call would corrupt memory. Call it as
+ *  EDMI_CONFIG_MATCHES() once at start-up, from each translation unit that owns a system. */
+int edmi_config_matches(unsigned long system_size, unsigned long workspace_size);
+
+/** edmi_config_matches() with this translation unit's sizes. */
+#define EDMI_CONFIG_MATCHES() \
+    edmi_config_matches((unsigned long)sizeof(edmi_system), (unsigned long)sizeof(edmi_workspace))
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # edmi.c refuses the compiler modes that drop the IEEE semantics it relies on (its NaN/Inf
 # validation, the guard's double-word arithmetic): each must stop the build with edmi.c's
-# #error, in both precisions; the strict flags must build.   usage: check_flags.sh CC
+# #error, in both precisions; the strict flags must build. Then the configuration template and
+# EDMI_CONFIG_MATCHES().   usage: check_flags.sh CC   (from the repository root)
 # Last line: "N passed, N failed".
 set -u
 cc=${1:?usage: check_flags.sh CC}
@@ -26,5 +27,31 @@ for real in float double; do
         echo "FAIL -O2 ($real): does not build"; fail=$((fail + 1))
     fi
 done
+# The configuration template builds as it ships, and EDMI_CONFIG_MATCHES() tells a
+# translation unit compiled with other capacities from one compiled with the library's.
+if $cc -std=c99 -Wall -Wextra -Werror -DEDMI_USER_CONFIG='"port/edmi_config_template.h"' \
+        -c edmi.c -o "$tmp/lib.o" 2>/dev/null; then
+    echo "ok   port/edmi_config_template.h builds as EDMI_USER_CONFIG"; pass=$((pass + 1))
+else
+    echo "FAIL port/edmi_config_template.h does not build"; fail=$((fail + 1))
+fi
+printf '#include "edmi.h"\nint main(void) { return EDMI_CONFIG_MATCHES() ? 0 : 3; }\n' > "$tmp/app.c"
+$cc -std=c99 -I. -c edmi.c -o "$tmp/lib16.o"
+for bodies in 16 8; do
+    if $cc -std=c99 -I. -DEDMI_MAX_BODIES=$bodies "$tmp/app.c" "$tmp/lib16.o" -o "$tmp/app" -lm; then
+        "$tmp/app"; rc=$?
+        want=$([ $bodies = 16 ] && echo 0 || echo 3)
+        if [ "$rc" = "$want" ]; then
+            echo "ok   EDMI_CONFIG_MATCHES(): caller with EDMI_MAX_BODIES=$bodies, library 16: exit $rc"
+            pass=$((pass + 1))
+        else
+            echo "FAIL EDMI_CONFIG_MATCHES(): caller with EDMI_MAX_BODIES=$bodies: exit $rc, want $want"
+            fail=$((fail + 1))
+        fi
+    else
+        echo "FAIL the EDMI_CONFIG_MATCHES() program does not build"; fail=$((fail + 1))
+    fi
+done
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -111,6 +111,35 @@ static void solver_bitwise(void)
     CHECK(memcmp(&sys_a, &sys_b, sizeof sys_a) == 0);
 }
 
+/* The state contract (edmi.h, edmi_body): between steps a firmware may write body[i].q and
+ * .p (a tracked object, a reset); the next step starts from what was written exactly as a
+ * system built with that state would, and a non-finite write is refused with the system
+ * unchanged. */
+static void solver_state_writes(void)
+{
+    static edmi_system before;
+    int k, i;
+    solver_build(&sys_a, EDMI_PM, 0);
+    solver_build(&sys_b, EDMI_PM, 0);
+    for (k = 0; k < 50; k++)
+        if (!CHECK_STATUS(edmi_step(&sys_a, &work_solver, EDMI_R(0.01), NULL), EDMI_OK))
+            return;
+    for (i = 0; i < sys_a.n_bodies; i++) { /* b is built fresh; a has stepped: copy a's state */
+        memcpy(sys_b.body[i].q, sys_a.body[i].q, sizeof sys_b.body[i].q);
+        memcpy(sys_b.body[i].p, sys_a.body[i].p, sizeof sys_b.body[i].p);
+    }
+    for (k = 0; k < 50; k++) {
+        if (!CHECK_STATUS(edmi_step(&sys_a, &work_solver, EDMI_R(0.01), NULL), EDMI_OK) ||
+            !CHECK_STATUS(edmi_step(&sys_b, &work_solver, EDMI_R(0.01), NULL), EDMI_OK))
+            return;
+    }
+    CHECK(memcmp(sys_a.body, sys_b.body, sizeof sys_a.body) == 0);
+    sys_b.body[2].p[1] = sys_b.body[2].p[1] / EDMI_R(0.0) * EDMI_R(0.0); /* NaN */
+    before = sys_b;
+    CHECK_STATUS(edmi_step(&sys_b, &work_solver, EDMI_R(0.01), NULL), EDMI_ERR_NONFINITE);
+    CHECK(memcmp(&before, &sys_b, sizeof sys_b) == 0);
+}
+
 void suite_solver(void)
 {
     th_suite("solver: banded elimination, numbering, reproducibility");
@@ -120,4 +149,5 @@ void suite_solver(void)
     solver_numbering(EDMI_PM);
     solver_numbering(EDMI_PT);
     solver_bitwise();
+    solver_state_writes();
 }

@@ -1,0 +1,41 @@
+/*
+ * edmi_config_template.h: every edmi build option in one place.
+ * SPDX-License-Identifier: MIT
+ *
+ * Copy this file into your tree as edmi_config.h, uncomment what you change, and compile
+ * EVERY translation unit that includes edmi.h (edmi.c and your own) with
+ *     -DEDMI_USER_CONFIG='"edmi_config.h"'
+ * (CMake: target_compile_definitions(your_target PUBLIC EDMI_USER_CONFIG="edmi_config.h")).
+ * The options change the layout of edmi_system and edmi_workspace, so a translation unit
+ * compiled without them sees other sizes: check once at start-up with
+ *     if (!EDMI_CONFIG_MATCHES()) { ... a build error, stop ... }
+ * Each value below is the default; the costs are those of edmi.h (README, "Sizing").
+ */
+#ifndef EDMI_CONFIG_H
+#define EDMI_CONFIG_H
+
+/* Precision: float (a Cortex-M4F's single-precision FPU) or double. Changes the ABI. */
+/* #define EDMI_REAL float */
+
+/* Bodies per system: 10 reals + 1 int in edmi_system and 21 reals + 6 ints in edmi_workspace
+ * per body, plus the Newton matrix below. */
+/* #define EDMI_MAX_BODIES 16 */
+
+/* Links (pair or anchor) per system: one edmi_link and 6 reals + 1 int in edmi_system, 30
+ * reals + 2 ints in edmi_workspace per link. */
+/* #define EDMI_MAX_LINKS 64 */
+
+/* Viscous dampers per system: an int and a real in edmi_system, 9 reals in edmi_workspace. */
+/* #define EDMI_MAX_DAMPERS 16 */
+
+/* Reals in the Newton matrix: the dense 9 N^2 by default; a chain of N bodies needs 48 N
+ * (README, "Solver"). */
+/* #define EDMI_MAX_MATRIX (9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES) */
+
+/* Port hooks: the square root (default: the compiler builtin, one instruction with an FPU and
+ * -fno-math-errno) and an exact fused multiply-add (default: the builtin where the target has
+ * the instruction; EDMI_NO_FMA forces the guard's split products, same results). */
+/* #define EDMI_SQRT(x) my_sqrtf(x) */
+/* #define EDMI_NO_FMA */
+
+#endif /* EDMI_CONFIG_H */
