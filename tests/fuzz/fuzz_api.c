@@ -730,6 +730,9 @@ static void fz_op_null(void)
     for (k = -2; k <= (int)EDMI_ERR_RANGE + 2; k++)
         if (edmi_status_name((edmi_status)k) == 0)
             fz_fail("no status name", "edmi_status_name", (edmi_status)k);
+    if (!EDMI_CONFIG_MATCHES() || edmi_config_matches(0, (unsigned long)sizeof fz_work) ||
+        edmi_config_matches((unsigned long)sizeof fz_sys, (unsigned long)sizeof fz_work + 1u))
+        fz_fail("wrong answer", "edmi_config_matches", EDMI_OK);
 }
 
 #define FZ_MAX_OPS 64
