@@ -11,6 +11,7 @@
 #                   sizes, capacity table and external references (port/target.mk)
 #   make study      what accuracy costs: error against instructions, every scheme and its peers
 #                   (examples/sim.mk, examples/study/)
+#   make cmake-check  the CMake target `edmi` in a consumer project, host and Cortex-M4F
 #   make clean
 # Override on the command line: make CC=clang CFLAGS='-O3' EDMI_REAL=float BUILD=out
 
@@ -183,6 +184,11 @@ $(BUILD)/cross/edmi.o: edmi.c edmi.h | $(BUILD)/cross
 # tgt-cross, whose closing line is their total: .ci/run adds up one line per make target.
 cross: $(BUILD)/cross/edmi.o
 	$(ARM_SIZE) $<
+
+# ---- cmake-check: edmi through CMake, host and Cortex-M4F (tests/cmake_check.sh) --------------
+.PHONY: cmake-check
+cmake-check:
+	bash tests/cmake_check.sh $(BUILD)
 
 # ---- housekeeping ----------------------------------------------------------------------------
 $(HOST) $(CHECK) $(BUILD)/cross $(foreach c,$(CONFIGS),$(BUILD)/test-$(c)):
