@@ -60,13 +60,14 @@ $(SIM_TEST): $(SIM_SRC)/test_scene.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HO
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/sim_scene.o $(HOST)/edmi.o -o $@ $(LDLIBS)
 
 # edmi-sim --ref's tests (examples/sim/test_ref.sh), with a double and a float edmi-sim built
-# here for them whatever EDMI_REAL is.
+# here for them whatever EDMI_REAL is, and --emit-c's (examples/sim/test_emit.sh).
 SIM_REF_BINS := $(BUILD)/simref/double/edmi-sim $(BUILD)/simref/float/edmi-sim
 $(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.c edmi.h
 	mkdir -p $(@D)
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c edmi.c \
 	    -o $@ $(LDLIBS)
-SIM_REF_TESTS := $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)')
+SIM_REF_TESTS := $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
+                 'bash $(SIM_SRC)/test_emit.sh $(BUILD)/simref/double/edmi-sim "$(CC)"'
 
 # Last line: "N passed, N failed" (tests/run_all.sh can take "$(SIM_TEST) $(SIM_SCENES)").
 test-scene: $(SIM_TEST)
