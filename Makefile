@@ -117,7 +117,7 @@ test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLA
 	    $(BAND_RUNS) \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)') \
-	    'bash tests/check_flags.sh "$(CC)"'
+	    'bash tests/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/check_flags.sh clang')
 
 # ---- soak: the guard's adversarial scenes for 10^6 steps per case, in both precisions ---------
 # tests/soak.c; the inequality H_n+1 - H_n <= W is checked in long double after every step.

@@ -5,7 +5,8 @@
  *
  * Follows the paper's order: potentials and their splits (section 3.1, 3.3) -> the five
  * algorithmic forces (section 4.1) -> the Newton predictor multi-corrector (section 3.4)
- * -> invariants (section 2, 4.1). Freestanding: includes only edmi.h (and <float.h>).
+ * -> invariants (section 2, 4.1). Freestanding: includes only edmi.h (and through it
+ * <float.h> and <limits.h>).
  */
 #include "edmi.h"
 
@@ -15,6 +16,17 @@
  * tests, every NaN/Inf check). */
 #if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__)
 #error "edmi.c needs IEEE semantics: compile it without -ffast-math, -Ofast or -ffinite-math-only"
+#endif
+/* Every a * b + c is rounded twice, as written: a fused multiply-add would change results (the
+ * host simulator and a target would disagree) and break the guard's exact products. GCC fuses
+ * by default in its GNU modes (-std=gnu99, what Arduino, ESP-IDF and CMake's default pass:
+ * measured 142 FMAs in the M4F object) and ignores the standard pragma; Clang fuses within
+ * expressions by default. So edmi.c turns contraction off for itself, whatever the build
+ * passes; -std=c99 builds (GCC contracts nothing there) are unchanged. */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#elif defined(__GNUC__) && !defined(__STRICT_ANSI__)
+#pragma GCC optimize("fp-contract=off")
 #endif
 
 /* ==========================================================================================
@@ -27,6 +39,11 @@
 
 /* At most this many halvings of a Newton correction that left the domain (down to 1/256). */
 #define EDMI__MAX_HALVINGS 8
+/* Dampers in use. EDMI_MAX_DAMPERS = 0 makes it the constant 0, so every loop over dampers
+ * and the damper code it calls fold away (a validated system has n_dampers <= the capacity).
+ * The three loops that touch work->kd are also inside #if EDMI_MAX_DAMPERS > 0: GCC 12 warns
+ * of an out-of-bounds kd[] access in the unreachable body otherwise. */
+#define EDMI__N_DAMPERS(s) (EDMI_MAX_DAMPERS > 0 ? (s)->n_dampers : 0)
 
 /* sqrt(eps): a residual reduced this far below the predictor's is in Newton's quadratic
  * regime, where (the tangent being exact) only round-off stops it from shrinking. */
@@ -725,7 +742,7 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
                                           edmi_real dt, const edmi_real (*q1)[3],
                                           edmi_real (*rp)[3])
 {
-    int a, i, d;
+    int a, i;
     for (a = 0; a < sys->n_forced; a++) {
         int b = sys->forced[a];
         for (i = 0; i < 3; i++)
@@ -737,13 +754,14 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
             for (i = 0; i < 3; i++)
                 rp[a][i] -= mdt * sys->g[i];
         }
-    for (d = 0; d < sys->n_dampers; d++) {
-        int j = sys->damper[d].link;
+#if EDMI_MAX_DAMPERS > 0
+    for (a = 0; a < EDMI__N_DAMPERS(sys); a++) {
+        int j = sys->damper[a].link;
         const edmi_link *lk = &sys->link[j];
         edmi_real r1[3], imp[3], loss;
         edmi_status st;
         edmi__sub(q1[lk->a], edmi__end_b(lk, &work->lw[j], q1), r1);
-        st = edmi__damper(&work->lw[j], sys->damper[d].c, r1, imp, work->kd[d], &loss);
+        st = edmi__damper(&work->lw[j], sys->damper[a].c, r1, imp, work->kd[a], &loss);
         if (st != EDMI_OK)
             return st;
         for (i = 0; i < 3; i++)
@@ -752,6 +770,10 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
             for (i = 0; i < 3; i++)
                 rp[lk->b][i] -= imp[i];
     }
+#else
+    (void)work;
+    (void)q1;
+#endif
     return EDMI_OK;
 }
 
@@ -976,7 +998,7 @@ static void edmi__scatter(edmi_real *g, const int *row, const edmi_link *lk, con
 static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_real dt, int n,
                            int kb)
 {
-    edmi_real *g = work->mat, ha, hb, k[9];
+    edmi_real *g = work->mat, k[9];
     const int *row = work->row;
     int i, j, size = n * edmi__row_width(n, kb);
     edmi__band_rows(work->row, n, kb);
@@ -994,12 +1016,14 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
         edmi__link_tangent(&work->lw[work->order[j]], dt, k);
         edmi__scatter_anchor(g, row, lk->a, k, work->h[lk->a]);
     }
-    for (j = 0; j < sys->n_dampers; j++) {
+#if EDMI_MAX_DAMPERS > 0
+    for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
         const edmi_link *lk = &sys->link[sys->damper[j].link];
-        ha = work->h[lk->a];
-        hb = lk->b == EDMI_ANCHOR ? EDMI__ZERO : work->h[lk->b];
+        edmi_real ha = work->h[lk->a];
+        edmi_real hb = lk->b == EDMI_ANCHOR ? EDMI__ZERO : work->h[lk->b];
         edmi__scatter(g, row, lk, work->kd[j], ha, hb);
     }
+#endif
 }
 
 /* x[0..m-1] -= f y[0..m-1], m >= 1: the elimination's inner loop, tested at its bottom (a
@@ -1112,7 +1136,7 @@ static edmi_status edmi__solve_two_body(const edmi_system *sys, edmi_workspace *
         for (i = 0; i < 9; i++)
             kk[i] += k[i];
     }
-    for (j = 0; j < sys->n_dampers; j++)
+    for (j = 0; j < EDMI__N_DAMPERS(sys); j++)
         for (i = 0; i < 9; i++)
             kk[i] += work->kd[j][i];
     for (i = 0; i < 9; i++)
@@ -1158,7 +1182,7 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
             for (i = 0; i < 9; i++)
                 g[i] += h * k[i];
         }
-        for (j = 0; j < sys->n_dampers; j++)
+        for (j = 0; j < EDMI__N_DAMPERS(sys); j++)
             for (i = 0; i < 9; i++)
                 g[i] += h * work->kd[j][i];
         g[0] += EDMI__ONE;
@@ -1303,7 +1327,7 @@ static int edmi__link_ends_valid(int n_bodies, int a, int b)
 static edmi_status edmi__validate_effects(const edmi_system *sys)
 {
     int i;
-    for (i = 0; i < sys->n_dampers; i++) {
+    for (i = 0; i < EDMI__N_DAMPERS(sys); i++) {
         const edmi_damper *d = &sys->damper[i];
         if (d->link < 0 || d->link >= sys->n_links)
             return EDMI_ERR_INDEX;
@@ -2478,7 +2502,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
         for (i = 0; i < 3; i++)
             w->f[i] = w->beta * (EDMI__HALF * (w->r0[i] + r1[i]));
     }
-    for (j = 0; j < sys->n_dampers; j++) {
+    for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
         int l = sys->damper[j].link;
         const edmi_link *lk = &sys->link[l];
         edmi_link_ws *w = &work->lw[l];
@@ -2982,8 +3006,8 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
         return st;
     /* every block within REAL_MAX / (number of blocks), so no sum of them overflows: kmat is
      * written only when all of it is finite */
-    lim = EDMI_REAL_MAX / (EDMI_R(2.0) * (edmi_real)(sys->n_links + sys->n_dampers + 1));
-    for (j = 0; j < sys->n_links + sys->n_dampers; j++) {
+    lim = EDMI_REAL_MAX / (EDMI_R(2.0) * (edmi_real)(sys->n_links + EDMI__N_DAMPERS(sys) + 1));
+    for (j = 0; j < sys->n_links + EDMI__N_DAMPERS(sys); j++) {
         const edmi_real *k = kl;
         if (j < sys->n_links)
             edmi__link_tangent(&work->lw[j], dt, kl);
@@ -3002,9 +3026,11 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
         edmi__link_tangent(&work->lw[j], dt, kl);
         edmi__scatter(kmat, work->row, &sys->link[j], kl, EDMI__ONE, EDMI__ONE);
     }
-    for (j = 0; j < sys->n_dampers; j++)
+#if EDMI_MAX_DAMPERS > 0
+    for (j = 0; j < EDMI__N_DAMPERS(sys); j++)
         edmi__scatter(kmat, work->row, &sys->link[sys->damper[j].link], work->kd[j], EDMI__ONE,
                       EDMI__ONE);
+#endif
     return EDMI_OK;
 }
 
@@ -3294,7 +3320,7 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
         return EDMI_ERR_INDEX;
     if (!edmi__finite(c) || c < EDMI__ZERO)
         return EDMI_ERR_PARAM;
-    if (sys->n_dampers >= EDMI_MAX_DAMPERS)
+    if (EDMI__N_DAMPERS(sys) >= EDMI_MAX_DAMPERS)
         return EDMI_ERR_CAPACITY;
     sys->damper[sys->n_dampers].link = link;
     sys->damper[sys->n_dampers].c = c;
@@ -3382,7 +3408,7 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
     }
     if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(scene->n_bodies, gap))
         return EDMI_ERR_CAPACITY;
-    for (i = 0; i < scene->n_dampers; i++) {
+    for (i = 0; i < EDMI__N_DAMPERS(scene); i++) {
         const edmi_damper *d = &scene->dampers[i];
         if (d->link < 0 || d->link >= scene->n_links)
             return EDMI_ERR_INDEX;
@@ -3401,7 +3427,7 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         const edmi_link *lk = &scene->links[i];
         edmi__write_link(&sys->link[i], lk->a, lk->b, lk->anchor, &lk->pot);
     }
-    for (i = 0; i < scene->n_dampers; i++) {
+    for (i = 0; i < EDMI__N_DAMPERS(scene); i++) {
         sys->damper[i].link = scene->dampers[i].link;
         sys->damper[i].c = scene->dampers[i].c;
     }

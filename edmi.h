@@ -60,9 +60,32 @@
 #endif
 
 /** Viscous dampers per system (each acts along one link). Costs an int and a real in
- *  edmi_system and 9 reals in edmi_workspace per damper. */
+ *  edmi_system and 9 reals in edmi_workspace per damper. 0 compiles dampers out: the step
+ *  holds no damper code (edmi_add_damper() then returns EDMI_ERR_CAPACITY) and the structs
+ *  keep one unused slot. */
 #ifndef EDMI_MAX_DAMPERS
 #define EDMI_MAX_DAMPERS 16
+#endif
+
+/* Capacities the library cannot work with stop the build here, not at run time. The upper
+ * bounds keep every index and matrix offset within int (the matrix is indexed up to 9 N^2). */
+#if EDMI_MAX_BODIES < 1 || EDMI_MAX_BODIES > 10000
+#error "edmi: EDMI_MAX_BODIES must be 1 to 10000"
+#endif
+#if EDMI_MAX_LINKS < 1 || EDMI_MAX_LINKS > 1000000
+#error "edmi: EDMI_MAX_LINKS must be 1 to 1000000 (every body moves under a link)"
+#endif
+#if EDMI_MAX_DAMPERS < 0 || EDMI_MAX_DAMPERS > 1000000
+#error "edmi: EDMI_MAX_DAMPERS must be 0 (dampers compiled out) to 1000000"
+#endif
+#if EDMI_MAX_MATRIX < 9 || EDMI_MAX_MATRIX > 9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES
+#error "edmi: EDMI_MAX_MATRIX must be 9 (one body) to 9 * EDMI_MAX_BODIES^2 (dense)"
+#endif
+/* Array length behind EDMI_MAX_DAMPERS: C forbids zero-length arrays. */
+#if EDMI_MAX_DAMPERS > 0
+#define EDMI_DAMPER_SLOTS_ EDMI_MAX_DAMPERS
+#else
+#define EDMI_DAMPER_SLOTS_ 1
 #endif
 
 /** The port hook: square root of a non-negative edmi_real. The default is the compiler
@@ -89,6 +112,10 @@
 #endif
 
 #include <float.h>
+#include <limits.h>
+#if INT_MAX < 2147483647
+#error "edmi: needs an int of at least 32 bits (matrix offsets reach 9 * EDMI_MAX_BODIES^2)"
+#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -121,6 +148,13 @@ typedef EDMI_REAL edmi_real;
 #define EDMI_SQRT_BUILTIN_(x) __builtin_sqrt(x)
 #else
 #error "edmi: EDMI_REAL must be float or double"
+#endif
+/* The guard's exact arithmetic assumes IEEE binary32 and binary64 (AVR's double, for one, is
+ * 32 bits: use float there). */
+#if EDMI_PREC_(EDMI_REAL) == EDMI_FLOAT_ && (FLT_RADIX != 2 || FLT_MANT_DIG != 24)
+#error "edmi: EDMI_REAL float needs an IEEE binary32 float"
+#elif EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_ && (FLT_RADIX != 2 || DBL_MANT_DIG != 53)
+#error "edmi: EDMI_REAL double needs an IEEE binary64 double; this target's is narrower (use float)"
 #endif
 #if defined(EDMI_FMA_DEFAULT_) && EDMI_PREC_(EDMI_REAL) == EDMI_FLOAT_ && defined(__FP_FAST_FMAF)
 #define EDMI_FMA(a, b, c) __builtin_fmaf(a, b, c)
@@ -299,7 +333,7 @@ typedef struct edmi_system {
     int has_field;                       /*!< uniform field set by edmi_set_field() */
     edmi_real g[3];                      /*!< field acceleration: force m g on every body [L/T^2] */
     int n_dampers;
-    edmi_damper damper[EDMI_MAX_DAMPERS];
+    edmi_damper damper[EDMI_DAMPER_SLOTS_];
     int n_forced;                        /*!< bodies with an external force port set */
     int forced[EDMI_MAX_BODIES];         /*!< their indices */
     edmi_real force[EDMI_MAX_BODIES][3]; /*!< port force per body (row forced[i] in use) [M L/T^2] */
@@ -364,7 +398,7 @@ typedef struct edmi_workspace {
     edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
     edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
     edmi_link_ws lw[EDMI_MAX_LINKS];
-    edmi_real kd[EDMI_MAX_DAMPERS][9]; /* damper tangent blocks */
+    edmi_real kd[EDMI_DAMPER_SLOTS_][9]; /* damper tangent blocks */
     int row[3 * EDMI_MAX_BODIES];      /* the Newton matrix's row offsets */
     int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
     int n_pair;

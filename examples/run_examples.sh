@@ -51,7 +51,7 @@ printf '%s\n' "${runs[@]}" | xargs -r -P "$jobs" -L 1 bash -c '
 t1=$(date +%s.%N)
 
 echo
-echo "| scene         | scheme          |   steps |  wall s | it/st |    max dH |   final dH |    max dJ |    max dL |    max dC |"
+echo "| scene         | scheme          |   steps | us/step | it/st |    max dH |   final dH |    max dJ |    max dL |    max dC |"
 echo "|---------------|-----------------|---------|---------|-------|-----------|------------|-----------|-----------|-----------|"
 failed=0
 for id in $(order); do

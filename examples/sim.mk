@@ -53,20 +53,29 @@ $(HOST)/sim_scene.o: $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.h | $(HOST)
 $(HOST)/sim_edmi.o: edmi.c edmi.h | $(HOST)
 	$(CC) $(LIBFLAGS) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) -c $< -o $@
 
-$(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o edmi.h | $(HOST)
-	$(CC) $(STRICT) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/sim_scene.o $(HOST)/sim_edmi.o -o $@ $(LDLIBS)
+# edmi-sim evaluates H of every stored state in long double with tests/passive.c (the soak's
+# check, independent of the library's arithmetic) for its "H steps" line.
+SIM_PASSIVE := tests/passive.c tests/passive.h examples/haptic_hand.h
+$(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o \
+		$(SIM_PASSIVE) edmi.h | $(HOST)
+	$(CC) $(STRICT) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) -I. $< tests/passive.c \
+	    $(HOST)/sim_scene.o $(HOST)/sim_edmi.o -o $@ $(LDLIBS)
 
 $(SIM_TEST): $(SIM_SRC)/test_scene.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/edmi.o edmi.h | $(HOST)
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/sim_scene.o $(HOST)/edmi.o -o $@ $(LDLIBS)
 
-# edmi-sim --ref's tests (examples/sim/test_ref.sh), with a double and a float edmi-sim built
-# here for them whatever EDMI_REAL is, and --emit-c's (examples/sim/test_emit.sh).
+# edmi-sim --ref's tests (examples/sim/test_ref.sh) and its summary's (test_summary.sh), with a
+# double and a float edmi-sim built here for them whatever EDMI_REAL is, and --emit-c's
+# (examples/sim/test_emit.sh).
 SIM_REF_BINS := $(BUILD)/simref/double/edmi-sim $(BUILD)/simref/float/edmi-sim
-$(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.c edmi.h
+$(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h \
+		$(SIM_PASSIVE) edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c edmi.c \
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c \
+	    tests/passive.c edmi.c \
 	    -o $@ $(LDLIBS)
 SIM_REF_TESTS := $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
+                 $(foreach r,double float,'bash $(SIM_SRC)/test_summary.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes') \
                  'bash $(SIM_SRC)/test_emit.sh $(BUILD)/simref/double/edmi-sim "$(CC)"'
 
 # Last line: "N passed, N failed" (tests/run_all.sh can take "$(SIM_TEST) $(SIM_SCENES)").

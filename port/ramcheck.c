@@ -9,7 +9,8 @@
  *
  * Derivation from the struct definitions in edmi.h, with R = sizeof(edmi_real),
  * P = sizeof(void *), E = sizeof(an enum), N = EDMI_MAX_BODIES, L = EDMI_MAX_LINKS,
- * D = EDMI_MAX_DAMPERS, RP = max(R, P), and up(x, a) = x rounded up to a multiple of a.
+ * D = max(EDMI_MAX_DAMPERS, 1) (0 compiles dampers out but keeps one slot), RP = max(R, P),
+ * and up(x, a) = x rounded up to a multiple of a.
  * Assumptions: int is 4 bytes; edmi_real and pointers are aligned to their size (AAPCS Arm,
  * RISC-V ilp32/lp64, x86-64, AArch64; not i386, where double is 4-aligned in structs); an
  * enum is 4 bytes except on arm-none-eabi, whose GCC defaults to -fshort-enums (E = 1).
@@ -42,7 +43,7 @@
 #define TGT_E ((unsigned long)sizeof(edmi_scheme))
 #define TGT_N ((unsigned long)EDMI_MAX_BODIES)
 #define TGT_L ((unsigned long)EDMI_MAX_LINKS)
-#define TGT_D ((unsigned long)EDMI_MAX_DAMPERS)
+#define TGT_D ((unsigned long)EDMI_DAMPER_SLOTS_) /* EDMI_MAX_DAMPERS = 0 keeps one slot */
 #define TGT_RP TGT_MAX(TGT_R, TGT_P)
 
 #define TGT_PARAMS \
@@ -121,7 +122,8 @@ int main(void)
     unsigned long n = TGT_N, l = TGT_L;
     printf("EDMI_REAL=%s EDMI_MAX_BODIES=%lu EDMI_MAX_LINKS=%lu EDMI_MAX_DAMPERS=%lu "
            "(R=%lu, P=%lu, E=%lu)\n",
-           TGT_R == 8u ? "double" : "float", n, l, TGT_D, TGT_R, TGT_P, TGT_E);
+           TGT_R == 8u ? "double" : "float", n, l, (unsigned long)EDMI_MAX_DAMPERS, TGT_R, TGT_P,
+           TGT_E);
     check("sizeof(edmi_params)", (unsigned long)sizeof(edmi_params), TGT_PARAMS);
     check("sizeof(edmi_potential)", (unsigned long)sizeof(edmi_potential), TGT_POT);
     check("sizeof(edmi_link)", (unsigned long)sizeof(edmi_link), TGT_LINK);
