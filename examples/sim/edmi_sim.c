@@ -846,11 +846,14 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
             printf(", D_scheme %.6e", st->d_scheme);
         printf("\n");
     }
-    if (st->h_checked)
+    if (st->h_checked && st->max_rise_step > 0)
         printf("H steps   H rose in %ld of %ld steps, by more than the work supplied in %ld "
                "(long double on the stored states); largest one-step rise %+.3e%s at step %ld\n",
                st->h_rises, st->steps, st->h_excess, st->max_rise,
                st->h0 != 0.0 ? " |H0|" : "", st->max_rise_step);
+    else if (st->h_checked)
+        printf("H steps   H rose in 0 of %ld steps, by more than the work supplied in 0 (long double "
+               "on the stored states): it never rose\n", st->steps);
     else
         printf("H steps   not checked: a potential the long double evaluation does not know\n");
     if (o->energy_balance)
@@ -1010,7 +1013,7 @@ int main(int argc, char **argv)
         ref_compare(&ref, &rerr, 0.0, dt, (double)inv0.h);
     }
     memset(&st, 0, sizeof st);
-    st.h_checked = 1;
+    st.h_checked = !o.row; /* the row has no cell for it: skip its cost (~10% on the ten bodies) */
     prev_sys = sys;
     st.h0 = (double)inv0.h;
     st.h_scale = st.h0 != 0.0 ? fabs(st.h0) : 1.0;
