@@ -110,11 +110,21 @@ $(BUILD)/band-%/band_store: tests/band_store.c edmi.c edmi.h
 BAND_RUNS := $(foreach r,double float,'bash tests/band_check.sh $(BUILD)/band-$(r)-dense/band_store \
              $(BUILD)/band-$(r)-narrow/band_store')
 
+# The general mass matrix (tests/mass_matrix.c): EDMI_MAX_MASS_GAP = 1, 8 bodies, the band
+# store of a chain (EDMI_MAX_MATRIX = 48 N), both precisions, under ASan+UBSan.
+MASS_CFG := -DEDMI_MAX_BODIES=8 -DEDMI_MAX_MATRIX=384 -DEDMI_MAX_MASS_GAP=1
+MASS_BINS := $(BUILD)/mass-double/mass_matrix $(BUILD)/mass-float/mass_matrix
+$(BUILD)/mass-%/mass_matrix: tests/mass_matrix.c edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(LIBFLAGS) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+	    -DEDMI_REAL=$* $(MASS_CFG) -I. tests/mass_matrix.c edmi.c -o $@ $(LDLIBS)
+
 # Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
-test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLAY_BINS) $(BAND_BINS)
+test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLAY_BINS) $(BAND_BINS) \
+      $(MASS_BINS)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
 	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(SIM_REF_TESTS) \
-	    $(BAND_RUNS) \
+	    $(BAND_RUNS) $(MASS_BINS) \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)') \
 	    'bash tests/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/check_flags.sh clang')
@@ -142,7 +152,8 @@ FUZZ_TIME ?= 60
 # Small capacities, so that inputs reach every EDMI_ERR_CAPACITY boundary. The Newton matrix
 # store of 300 reals holds the dense matrix up to 5 bodies and, at 6, only a band of pair gap
 # 1 (18 rows of 16): the band layout and its refusals are fuzzed too.
-FUZZ_CAP := -DEDMI_MAX_BODIES=6 -DEDMI_MAX_LINKS=12 -DEDMI_MAX_DAMPERS=4 -DEDMI_MAX_MATRIX=300
+FUZZ_CAP := -DEDMI_MAX_BODIES=6 -DEDMI_MAX_LINKS=12 -DEDMI_MAX_DAMPERS=4 -DEDMI_MAX_MATRIX=300 \
+            -DEDMI_MAX_MASS_GAP=2
 FUZZ_FLAGS := -std=c99 -g -ffp-contract=off -fno-math-errno $(FUZZ_CAP)
 FUZZ_SRC := edmi.c tests/passive.c tests/fuzz/fuzz_api.c
 FUZZ_DEPS := $(FUZZ_SRC) edmi.h tests/passive.h

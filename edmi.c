@@ -44,6 +44,12 @@
  * The three loops that touch work->kd are also inside #if EDMI_MAX_DAMPERS > 0: GCC 12 warns
  * of an out-of-bounds kd[] access in the unreachable body otherwise. */
 #define EDMI__N_DAMPERS(s) (EDMI_MAX_DAMPERS > 0 ? (s)->n_dampers : 0)
+/* Whether the mass matrix has off-diagonal entries (the constant 0 when compiled out). */
+#if EDMI_MAX_MASS_GAP > 0
+#define EDMI__COUPLED(s) (edmi__mass_gap(s) > 0)
+#else
+#define EDMI__COUPLED(s) 0
+#endif
 
 /* sqrt(eps): a residual reduced this far below the predictor's is in Newton's quadratic
  * regime, where (the tangent being exact) only round-off stops it from shrinking. */
@@ -693,6 +699,112 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
     return EDMI_OK;
 }
 
+/* ==========================================================================================
+ * The mass matrix M (section 2): diagonal entries body[a].m, and with EDMI_MAX_MASS_GAP > 0
+ * off-diagonal entries m_ab within that gap of the diagonal (sys->mass_off). The kinetic
+ * energy is K = 1/2 p . M^-1 p and the time finite element gives M (q_n+1 - q_n) =
+ * dt p_n+1/2. The step needs M itself (a banded product, no solve); K needs M^-1, through a
+ * Cholesky factorisation M = L L^T streamed row by row: nothing is stored, so a body's mass
+ * written between steps is taken as it is (the state access contract).
+ * ======================================================================================== */
+
+#if EDMI_MAX_MASS_GAP > 0
+/* m_ab, a != b (0 beyond the gap). */
+static edmi_real edmi__mass_ab(const edmi_system *sys, int a, int b)
+{
+    int hi = a > b ? a : b, k = (a > b ? a - b : b - a) - 1;
+    return k < EDMI_MAX_MASS_GAP ? sys->mass_off[hi][k] : EDMI__ZERO;
+}
+
+/* The largest body-index gap of a non-zero off-diagonal mass (0: M is diagonal). */
+static int edmi__mass_gap(const edmi_system *sys)
+{
+    int a, k, g = 0;
+    for (a = 1; a < sys->n_bodies; a++)
+        for (k = 0; k < EDMI_MAX_MASS_GAP && k < a; k++)
+            if (sys->mass_off[a][k] != EDMI__ZERO && k + 1 > g)
+                g = k + 1;
+    return g;
+}
+
+/* Cholesky M = L L^T row by row, L's rows within the gap G kept in a ring of G + 1 rows
+ * (row r in ring[r % (G + 1)], its column i at index i - r + G). With k, also the forward
+ * substitution y = L^-1 p of the bodies' momenta (per component) and *k = 1/2 |y|^2 =
+ * 1/2 p . M^-1 p. Returns 0 if a pivot is not positive or not finite: M is not (numerically)
+ * positive definite. */
+static int edmi__mass_cholesky(const edmi_system *sys, edmi_real *k)
+{
+    edmi_real ring[EDMI_MAX_MASS_GAP + 1][EDMI_MAX_MASS_GAP + 1], y[EDMI_MAX_MASS_GAP + 1][3];
+    const int g = EDMI_MAX_MASS_GAP, w = EDMI_MAX_MASS_GAP + 1;
+    edmi_real kin = EDMI__ZERO;
+    int a, i, j, c;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi_real *la = ring[a % w], d = sys->body[a].m;
+        int lo = a - g > 0 ? a - g : 0;
+        for (j = lo; j < a; j++) {
+            const edmi_real *lj = ring[j % w];
+            edmi_real x = edmi__mass_ab(sys, a, j);
+            for (i = lo; i < j; i++)
+                x -= la[i - a + g] * lj[i - j + g];
+            la[j - a + g] = x / lj[g];
+            d -= la[j - a + g] * la[j - a + g];
+        }
+        if (!edmi__finite(d) || !(d > EDMI__ZERO))
+            return 0;
+        la[g] = EDMI_SQRT(d);
+        if (k)
+            for (c = 0; c < 3; c++) {
+                edmi_real x = sys->body[a].p[c];
+                for (j = lo; j < a; j++)
+                    x -= la[j - a + g] * y[j % w][c];
+                y[a % w][c] = x / la[g];
+                kin += EDMI__HALF * y[a % w][c] * y[a % w][c];
+            }
+    }
+    if (k)
+        *k = kin;
+    return 1;
+}
+#endif
+
+/* (M 1)_a: body a's row sum of M, the mass the field pulls on and the centre of mass counts. */
+static edmi_real edmi__mass_row(const edmi_system *sys, int a)
+{
+    edmi_real m = sys->body[a].m;
+#if EDMI_MAX_MASS_GAP > 0
+    int b;
+    for (b = a - EDMI_MAX_MASS_GAP; b <= a + EDMI_MAX_MASS_GAP; b++)
+        if (b >= 0 && b < sys->n_bodies && b != a)
+            m += edmi__mass_ab(sys, a, b);
+#endif
+    return m;
+}
+
+/* R_q of the coupled masses: row a of M (q1 - q_n), divided by m_aa, minus its diagonal
+ * part (already in R_q): sum over b != a of m_ab / m_aa (q1_b - q_n,b). */
+static void edmi__mass_residual(const edmi_system *sys, const edmi_real (*q1)[3],
+                                edmi_real (*rq)[3])
+{
+#if EDMI_MAX_MASS_GAP > 0
+    int a, b, k, i;
+    for (a = 1; a < sys->n_bodies; a++)
+        for (k = 0; k < EDMI_MAX_MASS_GAP && k < a; k++) {
+            edmi_real m = sys->mass_off[a][k];
+            if (m == EDMI__ZERO)
+                continue;
+            b = a - 1 - k;
+            for (i = 0; i < 3; i++) {
+                rq[a][i] += m / sys->body[a].m * (q1[b][i] - sys->body[b].q[i]);
+                rq[b][i] += m / sys->body[b].m * (q1[a][i] - sys->body[a].q[i]);
+            }
+        }
+#else
+    (void)sys;
+    (void)q1;
+    (void)rq;
+#endif
+}
+
 /* Linear viscous damper along a link (section "effects" of README): impulse
  *     I = c (dr . r_m) r_m / |r_m|^2,   dr = r_n+1 - r_n,
  * is parallel to r_m, so L, J and C are conserved (lemma many-body-momentum), and it removes
@@ -750,7 +862,7 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
     }
     if (sys->has_field)
         for (a = 0; a < sys->n_bodies; a++) {
-            edmi_real mdt = dt * sys->body[a].m;
+            edmi_real mdt = dt * edmi__mass_row(sys, a);
             for (i = 0; i < 3; i++)
                 rp[a][i] -= mdt * sys->g[i];
         }
@@ -840,6 +952,7 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
             rp[a][i] = p1[a][i] - bd->p[i];
         }
     }
+    edmi__mass_residual(sys, q1, rq);
     /* Pair links, then anchor links (work->order, set once per step): no per-link branch. */
     for (k = 0; k < work->n_pair; k++) {
         const edmi_link *lk = &sys->link[work->order[k]];
@@ -915,7 +1028,11 @@ static edmi_status edmi__solve3(const edmi_real m[9], const edmi_real b[3], edmi
 /* The largest body-index gap of a pair link. */
 static int edmi__max_gap(const edmi_system *sys)
 {
+#if EDMI_MAX_MASS_GAP > 0
+    int j, w = edmi__mass_gap(sys);
+#else
     int j, w = 0;
+#endif
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         if (lk->b != EDMI_ANCHOR) {
@@ -927,7 +1044,8 @@ static int edmi__max_gap(const edmi_system *sys)
     return w;
 }
 
-/* Scalar half-bandwidth of the Newton matrix: 3 * (largest body-index gap of a pair link) + 2. */
+/* Scalar half-bandwidth of the Newton matrix: 3 * (largest body-index gap of a pair link or
+ * a coupled mass) + 2. */
 static int edmi__bandwidth(const edmi_system *sys) { return 3 * edmi__max_gap(sys) + 2; }
 
 /* Width of a stored row of the Newton matrix of n unknowns, half-bandwidth kb: the band
@@ -1006,6 +1124,17 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
         g[i] = EDMI__ZERO;
     for (i = 0; i < n; i++)
         g[row[i] + i] = EDMI__ONE;
+#if EDMI_MAX_MASS_GAP > 0
+    for (i = 1; i < sys->n_bodies; i++) /* coupled masses: m_ab / m_aa I in block (a, b) */
+        for (j = 0; j < EDMI_MAX_MASS_GAP && j < i; j++) {
+            edmi_real m = sys->mass_off[i][j];
+            int b = i - 1 - j, c;
+            for (c = 0; c < 3 && m != EDMI__ZERO; c++) {
+                g[row[3 * i + c] + 3 * b + c] += m / sys->body[i].m;
+                g[row[3 * b + c] + 3 * i + c] += m / sys->body[b].m;
+            }
+        }
+#endif
     for (j = 0; j < work->n_pair; j++) {
         const edmi_link *lk = &sys->link[work->order[j]];
         edmi__link_tangent(&work->lw[work->order[j]], dt, k);
@@ -1192,7 +1321,7 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         if (st != EDMI_OK)
             return st;
         edmi__copy3(x, work->rhs);
-    } else if (nb == 2 && work->n_pair == sys->n_links) {
+    } else if (nb == 2 && work->n_pair == sys->n_links && !EDMI__COUPLED(sys)) {
         work->kb = 0; /* nothing factored to reuse */
         st = edmi__solve_two_body(sys, work, dt);
         if (st != EDMI_OK)
@@ -1212,6 +1341,19 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         for (i = 0; i < 3; i++)
             work->dp[a][i] = c * (work->rq[a][i] + work->rhs[3 * a + i]);
     }
+#if EDMI_MAX_MASS_GAP > 0
+    for (a = 1; a < nb; a++) { /* dp = 2/dt (M_diag (R_q + dq) + M_off dq) */
+        int k;
+        for (k = 0; k < EDMI_MAX_MASS_GAP && k < a; k++) {
+            edmi_real c = EDMI_R(2.0) * sys->mass_off[a][k] / dt;
+            int b = a - 1 - k;
+            for (i = 0; i < 3; i++) {
+                work->dp[a][i] += c * work->rhs[3 * b + i];
+                work->dp[b][i] += c * work->rhs[3 * a + i];
+            }
+        }
+    }
+#endif
     return EDMI_OK;
 }
 
@@ -1371,6 +1513,13 @@ static int edmi__counts_valid(const edmi_system *sys)
  * system can outgrow it; the default (dense) holds every system and is never checked. */
 #define EDMI__MATRIX_BOUNDED (EDMI_MAX_MATRIX < 9L * EDMI_MAX_BODIES * EDMI_MAX_BODIES)
 
+static int edmi__guard_on(const edmi_params *p)
+{
+    return p->guard == EDMI_GUARD_ON ||
+           (p->guard == EDMI_GUARD_AUTO &&
+            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+}
+
 static edmi_status edmi__validate_system(const edmi_system *sys)
 {
     int i;
@@ -1396,6 +1545,16 @@ static edmi_status edmi__validate_system(const edmi_system *sys)
         if (!edmi__finite3(lk->anchor))
             return EDMI_ERR_NONFINITE;
     }
+#if EDMI_MAX_MASS_GAP > 0
+    for (i = 1; i < sys->n_bodies; i++) {
+        int k;
+        for (k = 0; k < EDMI_MAX_MASS_GAP && k < i; k++)
+            if (!edmi__finite(sys->mass_off[i][k]))
+                return EDMI_ERR_NONFINITE;
+    }
+    if (EDMI__COUPLED(sys) && !edmi__mass_cholesky(sys, 0))
+        return EDMI_ERR_MASS; /* a mass written since: M no longer positive definite */
+#endif
     return edmi__validate_effects(sys);
 }
 
@@ -1409,6 +1568,11 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
     st = edmi__validate_system(sys);
     if (st != EDMI_OK)
         return st;
+    /* not yet with a coupled mass matrix: the guard's, the fallback's and the energy
+     * balance's evaluations of K assume one mass per body */
+    if (EDMI__COUPLED(sys) && (edmi__guard_on(&sys->params) || sys->params.fallback ||
+                               sys->params.energy_balance))
+        return EDMI_ERR_PARAM;
     return edmi__finite(sys->t + (dt - sys->t_carry)) ? EDMI_OK : EDMI_ERR_DT;
 }
 
@@ -2572,12 +2736,6 @@ static edmi_real edmi__diss_law(const edmi_system *sys, const edmi_workspace *wo
     return d;
 }
 
-static int edmi__guard_on(const edmi_params *p)
-{
-    return p->guard == EDMI_GUARD_ON ||
-           (p->guard == EDMI_GUARD_AUTO &&
-            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
-}
 
 /* After Newton converged: work, forces, energy balance and (if on) the guard. */
 static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
@@ -3062,15 +3220,20 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real jq[3];
+        edmi_real mrow = edmi__mass_row(sys, a);
         iv.k += EDMI__HALF * edmi__dot(bd->p, bd->p) / bd->m;
         edmi__cross(bd->q, bd->p, jq);
         for (i = 0; i < 3; i++) {
             iv.j[i] += jq[i];
             iv.l[i] += bd->p[i];
-            mq[i] += bd->m * bd->q[i];
+            mq[i] += mrow * bd->q[i]; /* sum over a of (M q)_a, M symmetric */
         }
-        mass += bd->m;
+        mass += mrow;
     }
+#if EDMI_MAX_MASS_GAP > 0
+    if (EDMI__COUPLED(sys) && !edmi__mass_cholesky(sys, &iv.k))
+        return EDMI_ERR_MASS;
+#endif
     for (a = 0; a < sys->n_links; a++) {
         const edmi_link *lk = &sys->link[a];
         edmi_real r[3], d;
@@ -3086,7 +3249,7 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
     }
     if (sys->has_field)
         for (a = 0; a < sys->n_bodies; a++)
-            iv.v -= sys->body[a].m * edmi__dot(sys->g, sys->body[a].q);
+            iv.v -= edmi__mass_row(sys, a) * edmi__dot(sys->g, sys->body[a].q);
     iv.h = iv.k + iv.v;
     for (i = 0; i < 3; i++)
         iv.c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * iv.l[i]) / mass : EDMI__ZERO;
@@ -3328,6 +3491,41 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
         *index = sys->n_dampers;
     sys->n_dampers++;
     return EDMI_OK;
+}
+
+edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_ab)
+{
+#if EDMI_MAX_MASS_GAP > 0
+    int hi, k, gap;
+    edmi_real old;
+    if (!sys)
+        return EDMI_ERR_NULL;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
+    if (a < 0 || b < 0 || a >= sys->n_bodies || b >= sys->n_bodies || a == b)
+        return EDMI_ERR_INDEX;
+    if (!edmi__finite(m_ab))
+        return EDMI_ERR_NONFINITE;
+    gap = a > b ? a - b : b - a;
+    if (gap > EDMI_MAX_MASS_GAP)
+        return EDMI_ERR_CAPACITY;
+    if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies, gap))
+        return EDMI_ERR_CAPACITY;
+    hi = a > b ? a : b;
+    k = gap - 1;
+    old = sys->mass_off[hi][k];
+    sys->mass_off[hi][k] = m_ab;
+    if (!edmi__mass_cholesky(sys, 0)) { /* not positive definite: put the old entry back */
+        sys->mass_off[hi][k] = old;
+        return EDMI_ERR_MASS;
+    }
+    return EDMI_OK;
+#else
+    (void)a;
+    (void)b;
+    (void)m_ab;
+    return sys ? EDMI_ERR_CAPACITY : EDMI_ERR_NULL;
+#endif
 }
 
 edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3])

@@ -67,6 +67,15 @@
 #define EDMI_MAX_DAMPERS 16
 #endif
 
+/** Coupled masses (the paper's general mass matrix M, section 2): the largest body-index gap
+ *  |a - b| of an off-diagonal entry m_ab that edmi_set_mass_coupling() may set, e.g. 1 for a
+ *  chain of bar elements with a consistent mass matrix. Costs EDMI_MAX_MASS_GAP reals per body
+ *  in edmi_system. 0 (the default) compiles coupled masses out: M is diagonal (one mass per
+ *  body) and a build pays nothing for the option. */
+#ifndef EDMI_MAX_MASS_GAP
+#define EDMI_MAX_MASS_GAP 0
+#endif
+
 /* Capacities the library cannot work with stop the build here, not at run time. The upper
  * bounds keep every index and matrix offset within int (the matrix is indexed up to 9 N^2). */
 #if EDMI_MAX_BODIES < 1 || EDMI_MAX_BODIES > 10000
@@ -77,6 +86,9 @@
 #endif
 #if EDMI_MAX_DAMPERS < 0 || EDMI_MAX_DAMPERS > 1000000
 #error "edmi: EDMI_MAX_DAMPERS must be 0 (dampers compiled out) to 1000000"
+#endif
+#if EDMI_MAX_MASS_GAP < 0 || EDMI_MAX_MASS_GAP >= EDMI_MAX_BODIES
+#error "edmi: EDMI_MAX_MASS_GAP must be 0 (diagonal masses) to EDMI_MAX_BODIES - 1"
 #endif
 #if EDMI_MAX_MATRIX < 9 || EDMI_MAX_MATRIX > 9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES
 #error "edmi: EDMI_MAX_MATRIX must be 9 (one body) to 9 * EDMI_MAX_BODIES^2 (dense)"
@@ -340,6 +352,12 @@ typedef struct edmi_system {
     int n_moving;                        /*!< anchor links moved by edmi_move_anchor() */
     int moving[EDMI_MAX_LINKS];          /*!< their link indices */
     edmi_real anchor_next[EDMI_MAX_LINKS][3]; /*!< where each reaches at the end of the next step [L] */
+#if EDMI_MAX_MASS_GAP > 0
+    /** The mass matrix's off-diagonal band (edmi_set_mass_coupling()): mass_off[a][k] is
+     *  m_ab = m_ba for b = a - 1 - k [M]; 0 where bodies are not coupled. The diagonal is
+     *  body[a].m. M must stay symmetric positive definite: edmi_step() checks it. */
+    edmi_real mass_off[EDMI_MAX_BODIES][EDMI_MAX_MASS_GAP];
+#endif
     /** Output of the last successful step: the mean force link j applied on its second end
      *  (body b, or the anchor: the force a motor renders to a hand) over the step, its
      *  algorithmic force plus its dampers [M L/T^2]. The work the anchors did on the system
@@ -525,6 +543,19 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3]);
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link), EDMI_ERR_PARAM (c < 0 or
  *          not finite), EDMI_ERR_CAPACITY */
 edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index);
+
+/** \brief Couple the masses of bodies a and b: set the off-diagonal entry m_ab = m_ba of the
+ *  mass matrix M (kinetic energy K = 1/2 p . M^-1 p; the diagonal entries are the bodies'
+ *  masses), e.g. m/6 per bar element of mass m with a consistent mass matrix (whose ends then
+ *  have body mass m/3 each from that element). m_ab = 0 uncouples them. Needs
+ *  EDMI_MAX_MASS_GAP >= |a - b|. Every scheme steps M (q_n+1 - q_n) = dt p_n+1/2; the
+ *  passivity guard, the fallback, the field and the energy balance do not support a coupled M
+ *  yet (edmi_step() returns EDMI_ERR_PARAM: turn them off).
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (a or b no body, or a == b),
+ *          EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY (|a - b| > EDMI_MAX_MASS_GAP, or the Newton
+ *          matrix would outgrow EDMI_MAX_MATRIX), EDMI_ERR_MASS (M would not be positive
+ *          definite); on any error sys is unchanged */
+edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_ab);
 
 /** \brief Move the anchor of link `link` during the next step: it goes from its current
  *  position to x (straight, at constant speed) while the step runs, and stays at x after it.

@@ -563,7 +563,7 @@ static void fz_op_build(fz_in *in, int *n_user)
     edmi_params prm;
     int idx = -9, idx0 = -9;
     edmi_status st;
-    unsigned which = fz_u8(in) % 9u;
+    unsigned which = fz_u8(in) % 10u;
     fz_vec(in, v);
     memcpy(&fz_before, &fz_sys, sizeof fz_sys);
     switch (which) {
@@ -595,6 +595,10 @@ static void fz_op_build(fz_in *in, int *n_user)
     case 7:
         prm = fz_params(in);
         st = edmi_set_params(&fz_sys, &prm);
+        break;
+    case 8:
+        st = edmi_set_mass_coupling(&fz_sys, fz_index(in, fz_sys.n_bodies),
+                                    fz_index(in, fz_sys.n_bodies), fz_real(in));
         break;
     default:
         prm = fz_params(in);
@@ -711,6 +715,7 @@ static void fz_op_null(void)
     FZ_NULL(edmi_add_anchor(&fz_sys, 0, 0, &pot, 0));
     FZ_NULL(edmi_set_field(&fz_sys, 0));
     FZ_NULL(edmi_add_damper(0, 0, 1, 0));
+    FZ_NULL(edmi_set_mass_coupling(0, 0, 1, 1));
     FZ_NULL(edmi_move_anchor(&fz_sys, 0, 0));
     FZ_NULL(edmi_set_force(&fz_sys, 0, 0));
     FZ_NULL(edmi_load_scene(&fz_sys, 0));
