@@ -26,7 +26,9 @@
  *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
  *     s = up(s, R) + D*edmi_damper + 4 + 4N                      damper[D], n_forced, forced[N]
  *     s = up(s, R) + 3R*N + 4 + 4L                               force[N][3], n_moving, moving[L]
- *     s = up(s, R) + 6R*L                                        anchor_next[L][3], link_force[L][3]
+ *     s = up(s, R) + 6R*L + N*G*R                                anchor_next[L][3], mass_off[N][G]
+ *                                                                (G = EDMI_MAX_MASS_GAP, 0 by
+ *                                                                default), link_force[L][3]
  *     sizeof(edmi_system) = up(s, RP)
  *   edmi_link_ws   = up(30R + 4, R)     r0[3], 8 scalars, x1[3], f[3], gamma, rm[3], u[3],
  *                                       the balance's 6 reals, bal_on
@@ -56,7 +58,8 @@
 #define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
 #define TGT_S4 (TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
-#define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L)
+#define TGT_G ((unsigned long)EDMI_MAX_MASS_GAP)
+#define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G)
 #define TGT_SYSTEM TGT_UP(TGT_S6, TGT_RP)
 #define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
 #define TGT_LINK_WS TGT_UP(30u * TGT_R + 4u, TGT_R)
@@ -85,7 +88,7 @@
                    : 0u)
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + TGT_R * TGT_M + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L +             \
-     TGT_CLOSED_D * TGT_D + TGT_CLOSED_PAD)
+     TGT_CLOSED_D * TGT_D + TGT_R * TGT_N * TGT_G + TGT_CLOSED_PAD)
 #define TGT_TOTAL ((unsigned long)(sizeof(edmi_system) + sizeof(edmi_workspace)))
 
 #ifndef TGT_RAMCHECK_SIZES_ONLY

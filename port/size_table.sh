@@ -34,7 +34,7 @@ if [ "$mode" = targets ]; then
 elif [ "$mode" = capacity ]; then
     caps=$1
     shift
-    header="| N bodies / L links / D dampers |"
+    header="| N bodies / L links / D dampers (/ mG: EDMI_MAX_MASS_GAP = G) |"
     rule="|---|"
     args=("$@")
     i=0

@@ -82,12 +82,14 @@ tgt_nodouble = $(if $(filter float,$(call tgt_real,$(1))),--no-double)
 # Capacity settings N-L-D (EDMI_MAX_BODIES, EDMI_MAX_LINKS, EDMI_MAX_DAMPERS); the last is
 # the default. Sizes shown for the M4F (float) and M7 (double). D = 0 compiles dampers out:
 # 1-1-0 against 1-1-1 and 16-64-0 against 16-64-16 is the flash and RAM that saves.
-TGT_CAPS := 1-1-0 1-1-1 2-1-1 4-8-2 16-64-0 16-64-16
+TGT_CAPS := 1-1-0 1-1-1 2-1-1 4-8-2 16-64-0 16-64-16 16-64-16-m1
 TGT_CAP_TARGETS := m4f-float m7-double
 tgt_capdefs = -DEDMI_MAX_BODIES=$(word 1,$(subst -, ,$(1))) \
               -DEDMI_MAX_LINKS=$(word 2,$(subst -, ,$(1))) \
               -DEDMI_MAX_DAMPERS=$(word 3,$(subst -, ,$(1))) \
-              $(if $(word 4,$(subst -, ,$(1))),-DEDMI_MAX_MATRIX=$(word 4,$(subst -, ,$(1))))
+              $(if $(filter m%,$(word 4,$(subst -, ,$(1)))),\
+                  -DEDMI_MAX_MASS_GAP=$(patsubst m%,%,$(word 4,$(subst -, ,$(1)))),\
+                  $(if $(word 4,$(subst -, ,$(1))),-DEDMI_MAX_MATRIX=$(word 4,$(subst -, ,$(1)))))
 
 .PHONY: tgt-cross test-target bench-target haptic-target check-ram check-sqrt check-port study-target \
         smoke-target
