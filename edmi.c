@@ -1568,11 +1568,6 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
     st = edmi__validate_system(sys);
     if (st != EDMI_OK)
         return st;
-    /* not yet with a coupled mass matrix: the guard's, the fallback's and the energy
-     * balance's evaluations of K assume one mass per body */
-    if (EDMI__COUPLED(sys) && (edmi__guard_on(&sys->params) || sys->params.fallback ||
-                               sys->params.energy_balance))
-        return EDMI_ERR_PARAM;
     return edmi__finite(sys->t + (dt - sys->t_carry)) ? EDMI_OK : EDMI_ERR_DT;
 }
 
@@ -1942,14 +1937,159 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
             bal->err_v += EDMI__DW_ERR * mag + EDMI__DW_TINY * (EDMI_R(4.0) * sys->body[a].m +
                                                                 EDMI__ONE);
             bal->size_v += mag;
+#if EDMI_MAX_MASS_GAP > 0
+            { /* a coupled M pulls body a with (M 1)_a g: the off-diagonal masses, each exact */
+                int b;
+                for (b = a - EDMI_MAX_MASS_GAP; b <= a + EDMI_MAX_MASS_GAP; b++) {
+                    edmi_real m;
+                    if (b < 0 || b >= sys->n_bodies || b == a)
+                        continue;
+                    m = edmi__mass_ab(sys, a, b);
+                    bal->dv = edmi__dw_sub(bal->dv, edmi__dw_mul_r(wg, m));
+                    mag = edmi__abs(m) * (edmi__abs(wg.hi) + edmi__norm(sys->g) *
+                                                              (edmi__norm(q1[a]) +
+                                                               edmi__norm(sys->body[a].q)));
+                    bal->err_v += EDMI__DW_ERR * mag + EDMI__DW_TINY * EDMI_R(4.0) *
+                                                       (edmi__abs(m) + EDMI__ONE);
+                    bal->size_v += mag;
+                }
+            }
+#endif
         }
     return EDMI_OK;
 }
 
+#if EDMI_MAX_MASS_GAP > 0
+/* Solve M x = b (3 columns, x and b laid out [3 a + c]) with the band Cholesky factor L of M
+ * in f (row a at f[a (g + 1)], its column j at index j - a + g): forward, then backward. */
+static void edmi__mass_solve(const edmi_real *f, int n, int g, const edmi_real *b, edmi_real *x)
+{
+    int a, j, c;
+    for (a = 0; a < n; a++) {
+        const edmi_real *la = f + a * (g + 1);
+        int lo = a - g > 0 ? a - g : 0;
+        for (c = 0; c < 3; c++) {
+            edmi_real t = b[3 * a + c];
+            for (j = lo; j < a; j++)
+                t -= la[j - a + g] * x[3 * j + c];
+            x[3 * a + c] = t / la[g];
+        }
+    }
+    for (a = n - 1; a >= 0; a--)
+        for (c = 0; c < 3; c++) {
+            edmi_real t = x[3 * a + c];
+            for (j = a + 1; j <= a + g && j < n; j++)
+                t -= f[j * (g + 1) + (a - j + g)] * x[3 * j + c];
+            x[3 * a + c] = t / f[a * (g + 1) + g];
+        }
+}
+
+/* rho = s - M x for body a, component c, in double-word (the products exact), and the sum of
+ * the magnitudes of its terms. s = s_hi + s_lo exactly. */
+static edmi__dw edmi__mass_residual_dw(const edmi_system *sys, int a, int c, edmi__dw s,
+                                       const edmi_real *x, edmi_real *mag)
+{
+    int b, g = EDMI_MAX_MASS_GAP;
+    edmi__dw r = s;
+    *mag = edmi__abs(s.hi);
+    for (b = a - g; b <= a + g; b++) {
+        edmi_real m;
+        if (b < 0 || b >= sys->n_bodies)
+            continue;
+        m = b == a ? sys->body[a].m : edmi__mass_ab(sys, a, b);
+        r = edmi__dw_sub(r, edmi__two_prod(m, x[3 * b + c]));
+        *mag += edmi__abs(m * x[3 * b + c]);
+    }
+    return r;
+}
+
+/* dk = K(p1) - K(p_n) = 1/2 d . M^-1 s (d = p1 - p_n, s = p1 + p_n, both exact double-words)
+ * for a coupled M. x ~ M^-1 s from M's band Cholesky factor (in work->mat, free once Newton
+ * is done) with one step of refinement; dk = 1/2 d . x in double-word. What x misses is
+ * bounded through the residual rho = s - M x, evaluated in double-word: |1/2 d . M^-1 rho|
+ * <= 1/2 |d| |rho| / lambda_min(M), with lambda_min(M) bounded below by Gershgorin's discs,
+ * min over rows of m_aa - sum |m_ab|. An M that is not diagonally dominant has no such bound
+ * here: err_k is then infinite and the guard cannot certify (EDMI_ERR_PASSIVITY). */
+static void edmi__delta_k_coupled(const edmi_system *sys, edmi_workspace *work,
+                                  const edmi_real (*p1)[3], edmi__balance *bal)
+{
+    int n = sys->n_bodies, g = EDMI_MAX_MASS_GAP, a, b, c, pass;
+    edmi_real *f = work->mat, *x = work->rhs, *y = work->dp[0];
+    edmi_real lam = EDMI_REAL_MAX, nd = EDMI__ZERO, nr = EDMI__ZERO, mag_d = EDMI__ZERO;
+    edmi_real nfac = EDMI__ONE + EDMI_R(8.0) * (edmi_real)(3 * n + 2 * g + 2) * EDMI_EPS;
+    /* the factor, row by row, and Gershgorin's bound */
+    for (a = 0; a < n; a++) {
+        edmi_real *la = f + a * (g + 1), d = sys->body[a].m, off = EDMI__ZERO, lo_a;
+        int lo = a - g > 0 ? a - g : 0, j, i;
+        for (j = lo; j < a; j++) {
+            const edmi_real *lj = f + j * (g + 1);
+            edmi_real t = edmi__mass_ab(sys, a, j);
+            for (i = lo; i < j; i++)
+                t -= la[i - a + g] * lj[i - j + g];
+            la[j - a + g] = t / lj[g];
+            d -= la[j - a + g] * la[j - a + g];
+        }
+        la[g] = EDMI_SQRT(d > EDMI__ZERO ? d : EDMI__ONE); /* validated positive definite */
+        for (b = a - g; b <= a + g; b++)
+            if (b >= 0 && b < n && b != a)
+                off += edmi__abs(edmi__mass_ab(sys, a, b));
+        lo_a = (sys->body[a].m - off * nfac) * (EDMI__ONE - EDMI_R(2.0) * EDMI_EPS);
+        lam = lo_a < lam ? lo_a : lam;
+    }
+    for (a = 0; a < n; a++)
+        for (c = 0; c < 3; c++)
+            y[3 * a + c] = p1[a][c] + sys->body[a].p[c];
+    edmi__mass_solve(f, n, g, y, x);
+    for (pass = 0; pass < 2; pass++) {
+        nr = EDMI__ZERO;
+        for (a = 0; a < n; a++)
+            for (c = 0; c < 3; c++) {
+                edmi_real mag;
+                edmi__dw r = edmi__mass_residual_dw(sys, a, c,
+                                                    edmi__two_sum(p1[a][c], sys->body[a].p[c]),
+                                                    x, &mag);
+                y[3 * a + c] = r.hi;
+                nr += edmi__abs(r.hi) + edmi__abs(r.lo) + EDMI__DW_ERR * mag + EDMI__DW_TINY;
+            }
+        if (pass == 0) { /* refine: x += M^-1 rho (rho.hi in y, solved in place) */
+            edmi__mass_solve(f, n, g, y, y);
+            for (a = 0; a < 3 * n; a++)
+                x[a] += y[a];
+        }
+    }
+    bal->dk = edmi__dw_of(EDMI__ZERO);
+    bal->size_k = EDMI__ZERO;
+    for (a = 0; a < n; a++)
+        for (c = 0; c < 3; c++) {
+            edmi__dw d = edmi__two_sum(p1[a][c], -sys->body[a].p[c]);
+            edmi_real t = edmi__abs(d.hi * x[3 * a + c]);
+            bal->dk = edmi__dw_add(bal->dk, edmi__dw_mul_r(d, EDMI__HALF * x[3 * a + c]));
+            mag_d += t;
+            nd += edmi__abs(d.hi) + edmi__abs(d.lo);
+            bal->size_k += edmi__abs((p1[a][c] + sys->body[a].p[c]) * x[3 * a + c]);
+        }
+    /* 1-norms bound the 2-norms; nfac covers their own rounding */
+    bal->err_k = EDMI__DW_ERR * mag_d + EDMI__DW_TINY * (edmi_real)(3 * n + 1);
+    if (lam > EDMI__ZERO)
+        bal->err_k += EDMI__HALF * nd * nfac * (nr * nfac) / lam * nfac;
+    else
+        bal->err_k = EDMI_REAL_MAX * EDMI_R(2.0); /* inf: no bound, nothing certified */
+}
+#endif
+
 /* dk and err_k for the end momenta p1. */
-static void edmi__delta_k(const edmi_system *sys, const edmi_real (*p1)[3], edmi__balance *bal)
+static void edmi__delta_k(const edmi_system *sys, edmi_workspace *work, const edmi_real (*p1)[3],
+                          edmi__balance *bal)
 {
     int a;
+#if EDMI_MAX_MASS_GAP > 0
+    if (EDMI__COUPLED(sys)) {
+        edmi__delta_k_coupled(sys, work, p1, bal);
+        return;
+    }
+#else
+    (void)work;
+#endif
     bal->dk = edmi__dw_of(EDMI__ZERO);
     bal->err_k = EDMI__ZERO;
     bal->size_k = EDMI__ZERO;
@@ -2367,7 +2507,7 @@ static void edmi__frame_velocity(const edmi_system *sys, const edmi_workspace *w
     if (work->n_pair < sys->n_links || sys->has_field || sys->n_forced > 0)
         return;
     for (a = 0; a < sys->n_bodies; a++) {
-        mass += sys->body[a].m;
+        mass += edmi__mass_row(sys, a); /* the mass a uniform velocity carries: (M 1)_a */
         for (i = 0; i < 3; i++)
             v[i] += p[a][i];
     }
@@ -2383,9 +2523,9 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
     edmi_real v[3], krel = EDMI__ZERO, alpha;
     int a, i;
     edmi__frame_velocity(sys, work, (const edmi_real (*)[3])work->p1, v);
-    for (a = 0; a < sys->n_bodies; a++)
-        for (i = 0; i < 3; i++) {
-            edmi_real x = work->p1[a][i] - sys->body[a].m * v[i];
+    for (a = 0; a < sys->n_bodies; a++) /* (with a coupled M the frame's momentum is (M 1)_a v */
+        for (i = 0; i < 3; i++) {       /* and krel an estimate: the guard re-evaluates dk) */
+            edmi_real x = work->p1[a][i] - edmi__mass_row(sys, a) * v[i];
             krel += EDMI__HALF * x * x / sys->body[a].m;
         }
     if (!(goal < EDMI__ZERO) || !(krel > -goal))
@@ -2393,7 +2533,7 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
     alpha = EDMI__ONE - EDMI_SQRT(EDMI__ONE + goal / krel);
     for (a = 0; a < sys->n_bodies; a++)
         for (i = 0; i < 3; i++)
-            work->p1[a][i] -= alpha * (work->p1[a][i] - sys->body[a].m * v[i]);
+            work->p1[a][i] -= alpha * (work->p1[a][i] - edmi__mass_row(sys, a) * v[i]);
     return 1;
 }
 
@@ -2407,10 +2547,10 @@ typedef struct edmi__aim {
 } edmi__aim;
 
 /* Re-evaluate K's change for the current work->p1, and the aim. 0 if beyond range. */
-static int edmi__reaim(const edmi_system *sys, const edmi_workspace *work, edmi__balance *bal,
+static int edmi__reaim(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
                        edmi__aim *t)
 {
-    edmi__delta_k(sys, (const edmi_real (*)[3])work->p1, bal);
+    edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, bal);
     if (!edmi__excess(bal, &t->e, &t->margin))
         return 0;
     t->hi = -t->e - t->margin - t->strict;
@@ -2762,7 +2902,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         if (st != EDMI_OK)
             return st;
     } else {
-        edmi__delta_k(sys, (const edmi_real (*)[3])work->p1, &bal);
+        edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
     }
     res->dh = edmi__dw_real(edmi__dw_add(bal.dv, bal.dk));
     return edmi__finite(res->dh) ? EDMI_OK : EDMI_ERR_PASSIVITY;
@@ -2785,9 +2925,11 @@ static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
         edmi__copy3(sys->body[a].p, work->p1[a]);
     }
     edmi__frame_velocity(sys, work, (const edmi_real (*)[3])work->p1, v);
-    for (a = 0; a < sys->n_bodies; a++)
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi_real m = edmi__mass_row(sys, a);
         for (i = 0; i < 3; i++)
-            work->p1[a][i] = sys->body[a].m * v[i];
+            work->p1[a][i] = m * v[i];
+    }
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         edmi_link_ws *w = &work->lw[j];
@@ -2823,7 +2965,7 @@ static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
     res->guard_action = 0;
     bal.w = edmi__dw_of(wa);
     for (pass = 0; pass < 2; pass++) {
-        edmi__delta_k(sys, (const edmi_real (*)[3])work->p1, &bal);
+        edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
         if (!edmi__excess(&bal, &e, &margin))
             return EDMI_ERR_PASSIVITY;
         if (e + margin <= EDMI__ZERO)

@@ -548,9 +548,11 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
  *  mass matrix M (kinetic energy K = 1/2 p . M^-1 p; the diagonal entries are the bodies'
  *  masses), e.g. m/6 per bar element of mass m with a consistent mass matrix (whose ends then
  *  have body mass m/3 each from that element). m_ab = 0 uncouples them. Needs
- *  EDMI_MAX_MASS_GAP >= |a - b|. Every scheme steps M (q_n+1 - q_n) = dt p_n+1/2; the
- *  passivity guard, the fallback, the field and the energy balance do not support a coupled M
- *  yet (edmi_step() returns EDMI_ERR_PARAM: turn them off).
+ *  EDMI_MAX_MASS_GAP >= |a - b|. Every scheme steps M (q_n+1 - q_n) = dt p_n+1/2, the field
+ *  pulls body a with (M 1)_a g, and the passivity guard certifies H_n+1 - H_n <= work with
+ *  K = 1/2 p . M^-1 p; the guard's error bound needs M diagonally dominant (m_aa > sum over b
+ *  of |m_ab|, as every consistent mass matrix of bar elements is), else its steps fail with
+ *  EDMI_ERR_PASSIVITY (or take the fallback).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (a or b no body, or a == b),
  *          EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY (|a - b| > EDMI_MAX_MASS_GAP, or the Newton
  *          matrix would outgrow EDMI_MAX_MATRIX), EDMI_ERR_MASS (M would not be positive

@@ -86,17 +86,112 @@ static long double tp_link_sq(const edmi_system *s, int j, long double *d)
     return sq;
 }
 
+#if EDMI_MAX_MASS_GAP > 0
+/* m_ab of a coupled mass matrix (issue 12), a != b; 0 beyond the gap. */
+static long double tp_mass_ab(const edmi_system *s, int a, int b)
+{
+    int hi = a > b ? a : b, k = (a > b ? a - b : b - a) - 1;
+    return k < EDMI_MAX_MASS_GAP ? (long double)s->mass_off[hi][k] : 0.0L;
+}
+
+static int tp_coupled(const edmi_system *s)
+{
+    int a, k;
+    for (a = 1; a < s->n_bodies; a++)
+        for (k = 0; k < EDMI_MAX_MASS_GAP && k < a; k++)
+            if (s->mass_off[a][k] != 0)
+                return 1;
+    return 0;
+}
+
+/* K(p1) - K(p0) = 1/2 (p1 - p0) . M^-1 (p1 + p0) of a coupled M, by Gaussian elimination on
+ * the dense M in long double (no library code), and a bound on its error: a few units of
+ * long double times kappa(M) times the terms, kappa bounded by Gershgorin's discs. 0 if M is
+ * not diagonally dominant (no bound here). */
+static int tp_delta_k_coupled(const edmi_system *s0, const edmi_system *s1, long double *dk,
+                              long double *mag) /* s0 NULL: K(p1) itself */
+{
+    static long double m[EDMI_MAX_BODIES][EDMI_MAX_BODIES], x[EDMI_MAX_BODIES][3];
+    long double lmin = LDBL_MAX, lmax = 0.0L, kappa, t;
+    int n = s1->n_bodies, a, b, c, k;
+#define TP_P0(a, c) (s0 ? (long double)s0->body[a].p[c] : 0.0L)
+    for (a = 0; a < n; a++) {
+        long double off = 0.0L;
+        for (b = 0; b < n; b++) {
+            m[a][b] = a == b ? (long double)s1->body[a].m : tp_mass_ab(s1, a, b);
+            if (b != a)
+                off += tp_absl(m[a][b]);
+        }
+        if (m[a][a] - off < lmin)
+            lmin = m[a][a] - off;
+        if (m[a][a] + off > lmax)
+            lmax = m[a][a] + off;
+        for (c = 0; c < 3; c++)
+            x[a][c] = (long double)s1->body[a].p[c] + TP_P0(a, c);
+    }
+    if (!(lmin > 0.0L))
+        return 0;
+    kappa = lmax / lmin;
+    for (k = 0; k < n; k++) /* diagonally dominant: no pivoting needed */
+        for (a = k + 1; a < n; a++) {
+            long double f = m[a][k] / m[k][k];
+            if (f == 0.0L)
+                continue;
+            for (b = k; b < n; b++)
+                m[a][b] -= f * m[k][b];
+            for (c = 0; c < 3; c++)
+                x[a][c] -= f * x[k][c];
+        }
+    for (a = n - 1; a >= 0; a--)
+        for (c = 0; c < 3; c++) {
+            t = x[a][c];
+            for (b = a + 1; b < n; b++)
+                t -= m[a][b] * x[b][c];
+            x[a][c] = t / m[a][a];
+        }
+    *dk = 0.0L;
+    *mag = 0.0L;
+    for (a = 0; a < n; a++)
+        for (c = 0; c < 3; c++) {
+            long double d = (long double)s1->body[a].p[c] - TP_P0(a, c);
+            *dk += 0.5L * d * x[a][c];
+            *mag += 8.0L * (long double)(n + 2) * kappa * tp_absl(d * x[a][c]);
+        }
+#undef TP_P0
+    return 1;
+}
+#endif
+
 int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
                tp_delta *out)
 {
     long double dh = 0.0L, mag = 0.0L;
-    int a, i, j;
+    int a, i, j, coupled = 0;
+#if EDMI_MAX_MASS_GAP > 0
+    if (tp_coupled(s0)) {
+        coupled = 1;
+        if (!tp_delta_k_coupled(s0, s1, &dh, &mag))
+            return 0;
+        if (s0->has_field) /* V = -sum_ab m_ab g . q_a: the off-diagonal masses' part */
+            for (a = 0; a < s0->n_bodies; a++) {
+                int b;
+                for (b = 0; b < s0->n_bodies; b++)
+                    for (i = 0; i < 3 && b != a; i++) {
+                        long double g = (long double)s0->g[i], m = tp_mass_ab(s0, a, b);
+                        long double dq = (long double)s1->body[a].q[i] -
+                                         (long double)s0->body[a].q[i];
+                        dh -= m * g * dq;
+                        mag += 8.0L * tp_absl(m * g * dq);
+                    }
+            }
+    }
+#endif
     for (a = 0; a < s0->n_bodies; a++) {
         long double m2 = 2.0L * (long double)s0->body[a].m, k = 0.0L, km = 0.0L;
         /* K1 - K0 = sum (p1 - p0)(p1 + p0) / 2m: p1 - p0 exact or within u of itself (two
          * stored values, at most 53 significant bits, in 64), so the error is a few u
          * times the terms of the change, not of K */
-        for (i = 0; i < 3; i++) {
+        for (i = 0; i < 3 && !coupled; i++) {
             long double p0 = (long double)s0->body[a].p[i], p1 = (long double)s1->body[a].p[i];
             k += (p1 - p0) * (p1 + p0);
             km += tp_absl(p1 - p0) * (tp_absl(p1) + tp_absl(p0));
@@ -129,10 +224,26 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
 long double tp_h(const edmi_system *s)
 {
     long double h = 0.0L;
-    int a, i, j;
+    int a, i, j, coupled = 0;
+#if EDMI_MAX_MASS_GAP > 0
+    if (tp_coupled(s)) {
+        long double mag;
+        coupled = 1;
+        if (!tp_delta_k_coupled(0, s, &h, &mag))
+            return LDBL_MAX; /* not evaluated (M not diagonally dominant): no H */
+        if (s->has_field)
+            for (a = 0; a < s->n_bodies; a++) {
+                int b;
+                for (b = 0; b < s->n_bodies; b++)
+                    for (i = 0; i < 3 && b != a; i++)
+                        h -= tp_mass_ab(s, a, b) * (long double)s->g[i] *
+                             (long double)s->body[a].q[i];
+            }
+    }
+#endif
     for (a = 0; a < s->n_bodies; a++) {
         long double k = 0.0L;
-        for (i = 0; i < 3; i++)
+        for (i = 0; i < 3 && !coupled; i++)
             k += (long double)s->body[a].p[i] * (long double)s->body[a].p[i];
         h += k / (2.0L * (long double)s->body[a].m);
         if (s->has_field)
