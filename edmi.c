@@ -727,23 +727,44 @@ static int edmi__mass_gap(const edmi_system *sys)
     return g;
 }
 
-/* Cholesky M = L L^T row by row, L's rows within the gap G kept in a ring of G + 1 rows
- * (row r in ring[r % (G + 1)], its column i at index i - r + G). With k, also the forward
- * substitution y = L^-1 p of the bodies' momenta (per component) and *k = 1/2 |y|^2 =
- * 1/2 p . M^-1 p. Returns 0 if a pivot is not positive or not finite: M is not (numerically)
- * positive definite. */
-static int edmi__mass_cholesky(const edmi_system *sys, edmi_real *k)
+/* An off-diagonal mass m_ab (a != b) of a system or of a scene's list. */
+typedef edmi_real (*edmi__off_fn)(const void *ctx, int a, int b);
+
+static edmi_real edmi__off_sys(const void *ctx, int a, int b)
+{
+    return edmi__mass_ab((const edmi_system *)ctx, a, b);
+}
+
+static edmi_real edmi__off_scene(const void *ctx, int a, int b)
+{
+    const edmi_scene *sc = (const edmi_scene *)ctx;
+    int i;
+    for (i = 0; i < sc->n_mass_couplings; i++) {
+        const edmi_mass_coupling *c = &sc->mass_couplings[i];
+        if ((c->a == a && c->b == b) || (c->a == b && c->b == a))
+            return c->m;
+    }
+    return EDMI__ZERO;
+}
+
+/* Cholesky M = L L^T row by row (M's diagonal from body[], its off-diagonal masses from
+ * off), L's rows within the gap G kept in a ring of G + 1 rows (row r in ring[r % (G + 1)],
+ * its column i at index i - r + G). With k, also the forward substitution y = L^-1 p of the
+ * bodies' momenta (per component) and *k = 1/2 |y|^2 = 1/2 p . M^-1 p. Returns 0 if a pivot
+ * is not positive or not finite: M is not (numerically) positive definite. */
+static int edmi__cholesky(int n, const edmi_body *body, edmi__off_fn off, const void *ctx,
+                          const edmi_real (*p)[3], edmi_real *k)
 {
     edmi_real ring[EDMI_MAX_MASS_GAP + 1][EDMI_MAX_MASS_GAP + 1], y[EDMI_MAX_MASS_GAP + 1][3];
     const int g = EDMI_MAX_MASS_GAP, w = EDMI_MAX_MASS_GAP + 1;
     edmi_real kin = EDMI__ZERO;
     int a, i, j, c;
-    for (a = 0; a < sys->n_bodies; a++) {
-        edmi_real *la = ring[a % w], d = sys->body[a].m;
+    for (a = 0; a < n; a++) {
+        edmi_real *la = ring[a % w], d = body[a].m;
         int lo = a - g > 0 ? a - g : 0;
         for (j = lo; j < a; j++) {
             const edmi_real *lj = ring[j % w];
-            edmi_real x = edmi__mass_ab(sys, a, j);
+            edmi_real x = off(ctx, a, j);
             for (i = lo; i < j; i++)
                 x -= la[i - a + g] * lj[i - j + g];
             la[j - a + g] = x / lj[g];
@@ -754,7 +775,7 @@ static int edmi__mass_cholesky(const edmi_system *sys, edmi_real *k)
         la[g] = EDMI_SQRT(d);
         if (k)
             for (c = 0; c < 3; c++) {
-                edmi_real x = sys->body[a].p[c];
+                edmi_real x = p ? p[a][c] : body[a].p[c];
                 for (j = lo; j < a; j++)
                     x -= la[j - a + g] * y[j % w][c];
                 y[a % w][c] = x / la[g];
@@ -764,6 +785,11 @@ static int edmi__mass_cholesky(const edmi_system *sys, edmi_real *k)
     if (k)
         *k = kin;
     return 1;
+}
+
+static int edmi__mass_cholesky(const edmi_system *sys, edmi_real *k)
+{
+    return edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys, 0, k);
 }
 #endif
 
@@ -1984,10 +2010,10 @@ static void edmi__mass_solve(const edmi_real *f, int n, int g, const edmi_real *
         }
 }
 
-/* rho = s - M x for body a, component c, in double-word (the products exact), and the sum of
- * the magnitudes of its terms. s = s_hi + s_lo exactly. */
+/* rho = s - M (x + y) for body a, component c, in double-word (the products exact), and the
+ * sum of the magnitudes of its terms. s = s_hi + s_lo exactly; y may be NULL. */
 static edmi__dw edmi__mass_residual_dw(const edmi_system *sys, int a, int c, edmi__dw s,
-                                       const edmi_real *x, edmi_real *mag)
+                                       const edmi_real *x, const edmi_real *y, edmi_real *mag)
 {
     int b, g = EDMI_MAX_MASS_GAP;
     edmi__dw r = s;
@@ -1999,13 +2025,18 @@ static edmi__dw edmi__mass_residual_dw(const edmi_system *sys, int a, int c, edm
         m = b == a ? sys->body[a].m : edmi__mass_ab(sys, a, b);
         r = edmi__dw_sub(r, edmi__two_prod(m, x[3 * b + c]));
         *mag += edmi__abs(m * x[3 * b + c]);
+        if (y) {
+            r = edmi__dw_sub(r, edmi__two_prod(m, y[3 * b + c]));
+            *mag += edmi__abs(m * y[3 * b + c]);
+        }
     }
     return r;
 }
 
 /* dk = K(p1) - K(p_n) = 1/2 d . M^-1 s (d = p1 - p_n, s = p1 + p_n, both exact double-words)
- * for a coupled M. x ~ M^-1 s from M's band Cholesky factor (in work->mat, free once Newton
- * is done) with one step of refinement; dk = 1/2 d . x in double-word. What x misses is
+ * for a coupled M. x + y ~ M^-1 s, held as two working-precision vectors: x from M's band
+ * Cholesky factor (in work->mat, free once Newton is done), y = M^-1 (s - M x) its
+ * correction; dk = 1/2 d . (x + y) in double-word. What x misses is
  * bounded through the residual rho = s - M x, evaluated in double-word: |1/2 d . M^-1 rho|
  * <= 1/2 |d| |rho| / lambda_min(M), with lambda_min(M) bounded below by Gershgorin's discs,
  * min over rows of m_aa - sum |m_ab|. An M that is not diagonally dominant has no such bound
@@ -2040,30 +2071,29 @@ static void edmi__delta_k_coupled(const edmi_system *sys, edmi_workspace *work,
         for (c = 0; c < 3; c++)
             y[3 * a + c] = p1[a][c] + sys->body[a].p[c];
     edmi__mass_solve(f, n, g, y, x);
-    for (pass = 0; pass < 2; pass++) {
+    for (pass = 0; pass < 2; pass++) { /* the residual of x, then of x + y */
         nr = EDMI__ZERO;
         for (a = 0; a < n; a++)
             for (c = 0; c < 3; c++) {
                 edmi_real mag;
                 edmi__dw r = edmi__mass_residual_dw(sys, a, c,
                                                     edmi__two_sum(p1[a][c], sys->body[a].p[c]),
-                                                    x, &mag);
-                y[3 * a + c] = r.hi;
+                                                    x, pass ? y : 0, &mag);
+                if (pass == 0)
+                    y[3 * a + c] = r.hi;
                 nr += edmi__abs(r.hi) + edmi__abs(r.lo) + EDMI__DW_ERR * mag + EDMI__DW_TINY;
             }
-        if (pass == 0) { /* refine: x += M^-1 rho (rho.hi in y, solved in place) */
+        if (pass == 0) /* y = M^-1 rho.hi, solved in place */
             edmi__mass_solve(f, n, g, y, y);
-            for (a = 0; a < 3 * n; a++)
-                x[a] += y[a];
-        }
     }
     bal->dk = edmi__dw_of(EDMI__ZERO);
     bal->size_k = EDMI__ZERO;
     for (a = 0; a < n; a++)
         for (c = 0; c < 3; c++) {
             edmi__dw d = edmi__two_sum(p1[a][c], -sys->body[a].p[c]);
-            edmi_real t = edmi__abs(d.hi * x[3 * a + c]);
+            edmi_real t = edmi__abs(d.hi * x[3 * a + c]) + edmi__abs(d.hi * y[3 * a + c]);
             bal->dk = edmi__dw_add(bal->dk, edmi__dw_mul_r(d, EDMI__HALF * x[3 * a + c]));
+            bal->dk = edmi__dw_add(bal->dk, edmi__dw_mul_r(d, EDMI__HALF * y[3 * a + c]));
             mag_d += t;
             nd += edmi__abs(d.hi) + edmi__abs(d.lo);
             bal->size_k += edmi__abs((p1[a][c] + sys->body[a].p[c]) * x[3 * a + c]);
@@ -2129,8 +2159,17 @@ static int edmi__excess(const edmi__balance *bal, edmi_real *e, edmi_real *margi
 typedef struct edmi__comp {
     int a, i;
     edmi_real p, u, m2;
+#if EDMI_MAX_MASS_GAP > 0
+    edmi_real pk; /* the momentum K's slope sees, dK/dp = pk / (m2 / 2): m_aa (M^-1 p1)_a for
+                     a coupled M, p itself otherwise */
+#endif
     edmi_real jq[3]; /* J's change per unit of momentum: q_a x e_i */
 } edmi__comp;
+#if EDMI_MAX_MASS_GAP > 0
+#define EDMI__PK(c) ((c)->pk)
+#else
+#define EDMI__PK(c) ((c)->p) /* one mass per body: K's slope is p / m */
+#endif
 
 /* Unit in the last place of a normal x (0 for zero, subnormal, inf, NaN). */
 static edmi_real edmi__ulp(edmi_real x)
@@ -2166,8 +2205,8 @@ static edmi_real edmi__ulp(edmi_real x)
 /* K's change when component c moves by k units: ((p + k u)^2 - p^2) / 2m. */
 static EDMI__INLINE edmi_real edmi__comp_dk(const edmi__comp *c, int k)
 {
-    edmi_real v = c->p + (edmi_real)k * c->u;
-    return (v - c->p) * (v + c->p) / c->m2;
+    edmi_real v = EDMI__PK(c) + (edmi_real)k * c->u;
+    return (v - EDMI__PK(c)) * (v + EDMI__PK(c)) / c->m2;
 }
 
 /* How far the energy-aware rounding moves the picked components (energy steps s0 >= s1 >=
@@ -2186,11 +2225,16 @@ static EDMI__INLINE edmi_real edmi__comp_dk(const edmi__comp *c, int k)
 #define EDMI__ROUND_WIDE_K0 64
 
 /* The (up to) three momentum components whose units move K the most, coarsest first. */
-static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, edmi__comp c[3])
+static int edmi__pick_comps(const edmi_system *sys, edmi_workspace *work, edmi__comp c[3])
 {
     const edmi_real (*p1)[3] = (const edmi_real (*)[3])work->p1;
     edmi_real s[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
     int a, i, n = 0, k;
+#if EDMI_MAX_MASS_GAP > 0
+    int coupled = EDMI__COUPLED(sys);
+    if (coupled) /* velocities M^-1 p1 into work->rhs, with the factor edmi__reaim left */
+        edmi__mass_solve(work->mat, sys->n_bodies, EDMI_MAX_MASS_GAP, work->p1[0], work->rhs);
+#endif
     for (a = 0; a < sys->n_bodies; a++)
         for (i = 0; i < 3; i++) {
             edmi__comp x;
@@ -2200,6 +2244,9 @@ static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, 
             x.p = p1[a][i];
             x.u = edmi__ulp(x.p);
             x.m2 = EDMI_R(2.0) * sys->body[a].m;
+#if EDMI_MAX_MASS_GAP > 0
+            x.pk = coupled ? sys->body[a].m * work->rhs[3 * a + i] : x.p;
+#endif
             x.jq[i] = EDMI__ZERO; /* q x e_i */
             x.jq[(i + 1) % 3] = work->q1[a][(i + 2) % 3];
             x.jq[(i + 2) % 3] = -work->q1[a][(i + 1) % 3];
@@ -2207,7 +2254,7 @@ static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, 
             if (!(x.u > EDMI__ZERO) || edmi__abs(x.p) < EDMI_R(16384.0) * x.u ||
                 !edmi__finite(edmi__abs(x.p) + EDMI_R(128.0) * x.u)) /* offsets overflow */
                 continue;
-            sx = edmi__abs(x.p) * x.u / sys->body[a].m;
+            sx = edmi__abs(EDMI__PK(&x)) * x.u / sys->body[a].m;
             if (n == 3 && sx <= s[2])
                 continue;
             k = n < 3 ? n++ : 2; /* insertion into the list sorted by reach */
@@ -2230,7 +2277,7 @@ static int edmi__pick_comps(const edmi_system *sys, const edmi_workspace *work, 
 static int edmi__solve_coarse(const edmi__comp *c, int k3, int clamp, edmi_real base,
                               edmi_real goal, edmi_real hi, int *k, edmi_real *got)
 {
-    edmi_real slope = EDMI_R(2.0) * c->p * c->u / c->m2, x = (goal - base) / slope, v;
+    edmi_real slope = EDMI_R(2.0) * EDMI__PK(c) * c->u / c->m2, x = (goal - base) / slope, v;
     int kk, dir = slope > EDMI__ZERO ? 1 : -1, step;
     if (!(x - x == EDMI__ZERO) ||
         (!clamp && !(x > (edmi_real)(-k3 - 1) && x < (edmi_real)(k3 + 1))))
@@ -2255,8 +2302,8 @@ static int edmi__solve_coarse(const edmi__comp *c, int k3, int clamp, edmi_real 
 /* Range of a finer component: enough units to cover one unit of the next coarser one. */
 static int edmi__round_range(const edmi__comp *coarse, const edmi__comp *fine)
 {
-    edmi_real r = edmi__abs(coarse->p * coarse->u / coarse->m2) /
-                  edmi__abs(fine->p * fine->u / fine->m2);
+    edmi_real r = edmi__abs(EDMI__PK(coarse) * coarse->u / coarse->m2) /
+                  edmi__abs(EDMI__PK(fine) * fine->u / fine->m2);
     return r >= (edmi_real)(2 * EDMI__ROUND_MAX)   ? EDMI__ROUND_MAX
            : !(r > (edmi_real)(2 * EDMI__ROUND_MIN)) ? EDMI__ROUND_MIN /* and NaN: 0/0 */
                                                      : (int)(EDMI__HALF * r) + 1;
@@ -2345,7 +2392,7 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
                               int *qv)
 {
     edmi_real best = EDMI_REAL_MAX, best_m = EDMI_REAL_MAX, got, m_ok, bq[27], jq[27][3], rq[27];
-    edmi_real unit = EDMI_R(2.0) * c[0].p * c[0].u / c[0].m2; /* K per unit of c[0], signed */
+    edmi_real unit = EDMI_R(2.0) * EDMI__PK(&c[0]) * c[0].u / c[0].m2; /* K per unit of c[0], signed */
     int order[27], v, j1, j2, lim1, lim2, k0, found = 0, j, lo, hi_i, w;
     if (n == 0)
         return 0;
@@ -2523,11 +2570,21 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
     edmi_real v[3], krel = EDMI__ZERO, alpha;
     int a, i;
     edmi__frame_velocity(sys, work, (const edmi_real (*)[3])work->p1, v);
-    for (a = 0; a < sys->n_bodies; a++) /* (with a coupled M the frame's momentum is (M 1)_a v */
-        for (i = 0; i < 3; i++) {       /* and krel an estimate: the guard re-evaluates dk) */
+    for (a = 0; a < sys->n_bodies; a++) /* the frame's momentum is (M 1)_a v */
+        for (i = 0; i < 3; i++) {
             edmi_real x = work->p1[a][i] - edmi__mass_row(sys, a) * v[i];
             krel += EDMI__HALF * x * x / sys->body[a].m;
         }
+#if EDMI_MAX_MASS_GAP > 0
+    if (EDMI__COUPLED(sys)) { /* krel = 1/2 x . M^-1 x (x in work->dp: free in the guard) */
+        for (a = 0; a < sys->n_bodies; a++)
+            for (i = 0; i < 3; i++)
+                work->dp[a][i] = work->p1[a][i] - edmi__mass_row(sys, a) * v[i];
+        if (!edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys,
+                            (const edmi_real (*)[3])work->dp, &krel))
+            return 0;
+    }
+#endif
     if (!(goal < EDMI__ZERO) || !(krel > -goal))
         return 0;
     alpha = EDMI__ONE - EDMI_SQRT(EDMI__ONE + goal / krel);
@@ -2648,7 +2705,7 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
         for (j = 0; j < n; j++)
             l2 = edmi__max(l2, edmi__dot(work->q1[c[j].a], work->q1[c[j].a]));
     edmi__pick_qmoves(sys, work, c[0].a, &qm);
-    tol = edmi__max(t->tol, EDMI__ROUND_WINDOW * edmi__abs(c[0].p * c[0].u / c[0].m2));
+    tol = edmi__max(t->tol, EDMI__ROUND_WINDOW * edmi__abs(EDMI__PK(&c[0]) * c[0].u / c[0].m2));
     if (!edmi__round_search(c, n, &qm, k3, t->goal, t->hi, tol, l2, k, &qv))
         return 0;
     if ((k[0] | k[1] | k[2]) != 0) {
@@ -2728,7 +2785,9 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         r = edmi__on_target(&t) ? 1 : edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
         if (r == 0)
             r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_WIDE_K0, res);
-        if (r == 0 && !edmi__certified(&t) && edmi__guard_drag(sys, work, t.goal)) {
+        /* with a coupled M the search's estimates (one mass per body) can miss: drag too */
+        if ((r == 0 || EDMI__COUPLED(sys)) && !edmi__certified(&t) &&
+            edmi__guard_drag(sys, work, t.goal)) {
             res->guard_action |= EDMI_GUARD_DRAG;
             if (!edmi__reaim(sys, work, bal, &t))
                 return EDMI_ERR_PASSIVITY;
@@ -2751,7 +2810,7 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         if (n == 0)
             break;
         k[0] = k[1] = k[2] = 0;
-        k[i < 2 ? n - 1 : 0] = c[i < 2 ? n - 1 : 0].p > EDMI__ZERO ? -1 : 1;
+        k[i < 2 ? n - 1 : 0] = EDMI__PK(&c[i < 2 ? n - 1 : 0]) > EDMI__ZERO ? -1 : 1;
         edmi__round_apply(work, c, n, k);
         res->guard_action |= EDMI_GUARD_ROUND;
         if (!edmi__reaim(sys, work, bal, &t))
@@ -3746,8 +3805,39 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         if (lk->b != EDMI_ANCHOR && (lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a) > gap)
             gap = lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a;
     }
+    /* at most one entry per pair within the gap: N G of them */
+    if (scene->n_mass_couplings < 0 ||
+        scene->n_mass_couplings > EDMI_MAX_BODIES * EDMI_MAX_MASS_GAP)
+        return EDMI_ERR_CAPACITY;
+#if EDMI_MAX_MASS_GAP > 0
+    if (scene->n_mass_couplings > 0 && !scene->mass_couplings)
+        return EDMI_ERR_NULL;
+    for (i = 0; i < scene->n_mass_couplings; i++) {
+        const edmi_mass_coupling *c = &scene->mass_couplings[i];
+        int j, d;
+        if (c->a < 0 || c->b < 0 || c->a >= scene->n_bodies || c->b >= scene->n_bodies ||
+            c->a == c->b)
+            return EDMI_ERR_INDEX;
+        d = c->a > c->b ? c->a - c->b : c->b - c->a;
+        if (!edmi__finite(c->m))
+            return EDMI_ERR_NONFINITE;
+        if (d > EDMI_MAX_MASS_GAP)
+            return EDMI_ERR_CAPACITY;
+        for (j = 0; j < i; j++) { /* each pair once */
+            const edmi_mass_coupling *e = &scene->mass_couplings[j];
+            if ((e->a == c->a && e->b == c->b) || (e->a == c->b && e->b == c->a))
+                return EDMI_ERR_PARAM;
+        }
+        gap = d > gap ? d : gap;
+    }
+#endif
     if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(scene->n_bodies, gap))
         return EDMI_ERR_CAPACITY;
+#if EDMI_MAX_MASS_GAP > 0
+    if (scene->n_mass_couplings > 0 &&
+        !edmi__cholesky(scene->n_bodies, scene->bodies, edmi__off_scene, scene, 0, 0))
+        return EDMI_ERR_MASS; /* M not positive definite */
+#endif
     for (i = 0; i < EDMI__N_DAMPERS(scene); i++) {
         const edmi_damper *d = &scene->dampers[i];
         if (d->link < 0 || d->link >= scene->n_links)
@@ -3774,6 +3864,13 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
     sys->n_bodies = scene->n_bodies;
     sys->n_links = scene->n_links;
     sys->n_dampers = scene->n_dampers;
+#if EDMI_MAX_MASS_GAP > 0
+    for (i = 0; i < scene->n_mass_couplings; i++) {
+        const edmi_mass_coupling *c = &scene->mass_couplings[i];
+        int hi = c->a > c->b ? c->a : c->b;
+        sys->mass_off[hi][(c->a > c->b ? c->a - c->b : c->b - c->a) - 1] = c->m;
+    }
+#endif
     if (scene->has_field) {
         sys->has_field = 1;
         edmi__copy3(scene->g, sys->g);

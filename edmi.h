@@ -331,6 +331,12 @@ typedef struct edmi_damper {
     edmi_real c; /*!< damping coefficient >= 0 [M / T]: force = c * relative speed along the link */
 } edmi_damper;
 
+/** An off-diagonal entry m_ab = m_ba of the mass matrix (edmi_set_mass_coupling()). */
+typedef struct edmi_mass_coupling {
+    int a, b;    /*!< two different bodies, |a - b| <= EDMI_MAX_MASS_GAP */
+    edmi_real m; /*!< m_ab [M] */
+} edmi_mass_coupling;
+
 /** A system: bodies, links, parameters and time. Caller-owned; initialise with edmi_init(). */
 typedef struct edmi_system {
     int n_bodies;
@@ -400,6 +406,8 @@ typedef struct edmi_scene {
     int has_field;               /*!< non-zero: uniform field g */
     edmi_real g[3];              /*!< field acceleration [L/T^2] */
     const edmi_params *params;   /*!< parameters, or NULL for edmi_default_params() */
+    int n_mass_couplings;        /*!< off-diagonal masses (0 for one mass per body) */
+    const edmi_mass_coupling *mass_couplings; /*!< each pair at most once (may be NULL when 0) */
 } edmi_scene;
 
 /** Newton scratch space. Caller-owned, contents meaningless between calls; one workspace may

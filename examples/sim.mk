@@ -41,6 +41,9 @@ SIM_BENCH_CAP := -DEDMI_MAX_BODIES=128 -DEDMI_MAX_LINKS=8192
 # no fast-math, -O3 gives bit-identical traces to -O2 (checked on all shipped scenes) and
 # runs the ten-body scene about 30% faster. `make SIM_OPT=` uses CFLAGS alone.
 SIM_OPT ?= -O3
+# edmi-sim, its scene parser and its tests take coupled masses (`mass A B m`) up to two bodies
+# apart: every object of theirs is built with the same capacity.
+SIM_CAP := -DEDMI_MAX_MASS_GAP=2
 
 .PHONY: sim test-scene run-examples plots bench guard-cost haptic study
 
@@ -48,21 +51,22 @@ all: $(SIM_BIN) $(SIM_TEST)
 sim: $(SIM_BIN) $(SIM_TEST)
 
 $(HOST)/sim_scene.o: $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.h | $(HOST)
-	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. -c $< -o $@
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -I. -c $< -o $@
 
 $(HOST)/sim_edmi.o: edmi.c edmi.h | $(HOST)
-	$(CC) $(LIBFLAGS) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) -c $< -o $@
+	$(CC) $(LIBFLAGS) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -c $< -o $@
 
 # edmi-sim evaluates H of every stored state in long double with tests/passive.c (the soak's
 # check, independent of the library's arithmetic) for its "H steps" line.
 SIM_PASSIVE := tests/passive.c tests/passive.h examples/haptic_hand.h
 $(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o \
 		$(SIM_PASSIVE) edmi.h | $(HOST)
-	$(CC) $(STRICT) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) -I. $< tests/passive.c \
+	$(CC) $(STRICT) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -I. $< tests/passive.c \
 	    $(HOST)/sim_scene.o $(HOST)/sim_edmi.o -o $@ $(LDLIBS)
 
-$(SIM_TEST): $(SIM_SRC)/test_scene.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/edmi.o edmi.h | $(HOST)
-	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/sim_scene.o $(HOST)/edmi.o -o $@ $(LDLIBS)
+$(SIM_TEST): $(SIM_SRC)/test_scene.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o edmi.h | $(HOST)
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -I. $< $(HOST)/sim_scene.o \
+	    $(HOST)/sim_edmi.o -o $@ $(LDLIBS)
 
 # edmi-sim --ref's tests (examples/sim/test_ref.sh) and its summary's (test_summary.sh), with a
 # double and a float edmi-sim built here for them whatever EDMI_REAL is, and --emit-c's
@@ -71,7 +75,7 @@ SIM_REF_BINS := $(BUILD)/simref/double/edmi-sim $(BUILD)/simref/float/edmi-sim
 $(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h \
 		$(SIM_PASSIVE) edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c \
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* $(SIM_CAP) -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c \
 	    tests/passive.c edmi.c \
 	    -o $@ $(LDLIBS)
 SIM_REF_TESTS := $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \

@@ -192,6 +192,67 @@ static edmi_status mm_cable(edmi_scheme scheme, int coupled)
 
 static const char *const mm_names[] = {"MP", "LG", "GE", "PM", "PT"};
 
+/* The cable as constant data (edmi_scene with its mass couplings): loaded, it is the system
+ * mm_cable() builds call by call, byte for byte; each bad scene is refused with the system
+ * unchanged. */
+static void mm_scene(void)
+{
+    static edmi_system built;
+    static edmi_body bodies[MM_N];
+    static edmi_link links[MM_N - 1];
+    static edmi_mass_coupling mc[MM_N];
+    edmi_scene sc;
+    edmi_status st;
+    int a;
+    mm_check(mm_cable(EDMI_PM, 1) == EDMI_OK, "coupled cable builds");
+    built = mm_sys;
+    memset(&sc, 0, sizeof sc);
+    for (a = 0; a < MM_N; a++)
+        bodies[a] = built.body[a];
+    for (a = 0; a + 1 < MM_N; a++) {
+        links[a] = built.link[a];
+        mc[a].a = a + 1; /* either order */
+        mc[a].b = a;
+        mc[a].m = MM_ME / EDMI_R(6.0);
+    }
+    sc.n_bodies = MM_N;
+    sc.bodies = bodies;
+    sc.n_links = MM_N - 1;
+    sc.links = links;
+    sc.params = &built.params;
+    sc.n_mass_couplings = MM_N - 1;
+    sc.mass_couplings = mc;
+    memset(&mm_sys, 0, sizeof mm_sys);
+    st = edmi_load_scene(&mm_sys, &sc);
+    mm_check(st == EDMI_OK && memcmp(&mm_sys, &built, sizeof built) == 0,
+             "a scene with mass couplings loads into the system edmi_set_mass_coupling builds");
+    mm_copy = mm_sys;
+#define MM_BAD_SCENE(want, what)                                                               \
+    mm_check(edmi_load_scene(&mm_sys, &sc) == (want) &&                                       \
+                 memcmp(&mm_sys, &mm_copy, sizeof mm_sys) == 0,                               \
+             what)
+    mc[MM_N - 1] = mc[2];
+    sc.n_mass_couplings = MM_N;
+    MM_BAD_SCENE(EDMI_ERR_PARAM, "a scene listing a pair twice: EDMI_ERR_PARAM, unchanged");
+    mc[MM_N - 1].a = 0;
+    mc[MM_N - 1].b = 2;
+    MM_BAD_SCENE(EDMI_ERR_CAPACITY, "a scene coupling beyond the gap: EDMI_ERR_CAPACITY");
+    mc[MM_N - 1].b = 0;
+    MM_BAD_SCENE(EDMI_ERR_INDEX, "a scene coupling a body to itself: EDMI_ERR_INDEX");
+    mc[MM_N - 1].b = MM_N;
+    MM_BAD_SCENE(EDMI_ERR_INDEX, "a scene coupling a body that does not exist: EDMI_ERR_INDEX");
+    sc.n_mass_couplings = MM_N - 1;
+    mc[3].m = MM_ME * EDMI_R(0.7);
+    MM_BAD_SCENE(EDMI_ERR_MASS, "a scene whose M is indefinite: EDMI_ERR_MASS, unchanged");
+    mc[3].m = MM_ME / EDMI_R(6.0);
+    sc.mass_couplings = NULL;
+    MM_BAD_SCENE(EDMI_ERR_NULL, "couplings counted but no list: EDMI_ERR_NULL, unchanged");
+    sc.mass_couplings = mc;
+    sc.n_mass_couplings = -1;
+    MM_BAD_SCENE(EDMI_ERR_CAPACITY, "a negative count: EDMI_ERR_CAPACITY, unchanged");
+#undef MM_BAD_SCENE
+}
+
 /* The refusals: each returns its status and leaves the system bit-identical. */
 static void mm_refusals(void)
 {
@@ -544,6 +605,7 @@ int main(void)
            edmi_is_double_precision() ? "double" : "float", EDMI_MAX_MASS_GAP, EDMI_MAX_MATRIX,
            9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES);
     mm_refusals();
+    mm_scene();
     for (s = EDMI_MP; s <= EDMI_PT; s = (edmi_scheme)(s + 1))
         mm_scheme(s, 400, EDMI_R(1e-3));
     for (s = EDMI_GE; s <= EDMI_PT; s = (edmi_scheme)(s + 1))

@@ -218,6 +218,7 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
     out->dh = dh;
     out->w = (long double)res->work_ext + (long double)res->work_anchor;
     out->err = TP_ERR_ULPS * LDBL_EPSILON * (mag + tp_absl(out->w));
+    out->mag = mag;
     return dh - dh == 0.0L && out->err - out->err == 0.0L;
 }
 

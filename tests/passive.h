@@ -14,6 +14,8 @@ typedef struct tp_delta {
     long double dh;  /* H(s1) - H(s0) */
     long double w;   /* res.work_ext + res.work_anchor */
     long double err; /* |computed dh - exact dh| <= err */
+    long double mag; /* the magnitude of dh's terms (what a plain evaluation errs by, per unit
+                        of round-off) */
 } tp_delta;
 
 int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,

@@ -614,6 +614,43 @@ static int sim__key_damper(sim__ctx *c)
     return sim__add_damper(c, (int)v, cd);
 }
 
+/* mass A B m: the off-diagonal entry m_AB = m_BA of the mass matrix (edmi_set_mass_coupling;
+ * the bodies' own masses are its diagonal). */
+static int sim__key_mass(sim__ctx *c)
+{
+    static const char *const names[] = {"body A", "body B", "m_AB"};
+    sim_scene *s = c->s;
+    char la[64], lb[64];
+    double m;
+    int a, b, i, gap;
+    if (sim__count(c, 1, 3, names, "mass A B m_AB"))
+        return -1;
+    if (sim__body_ref(c, 1, &a) || sim__body_ref(c, 2, &b))
+        return -1;
+    if (a == b)
+        return sim__fail(c, "mass: couples %s to itself (a body's own mass is on its body line)",
+                         sim__body_label(c, a, la, sizeof la));
+    if (sim__real(c, 3, "m_AB", &m))
+        return -1;
+    gap = a > b ? a - b : b - a;
+    if (gap > EDMI_MAX_MASS_GAP)
+        return sim__fail(c, "mass: %s and %s are %d bodies apart; this build couples masses at "
+                         "most EDMI_MAX_MASS_GAP = %d apart", sim__body_label(c, a, la, sizeof la),
+                         sim__body_label(c, b, lb, sizeof lb), gap, EDMI_MAX_MASS_GAP);
+    for (i = 0; i < s->n_mass; i++)
+        if ((s->mass[i].a == a && s->mass[i].b == b) || (s->mass[i].a == b && s->mass[i].b == a))
+            return sim__fail(c, "mass: %s and %s are already coupled on an earlier line",
+                             sim__body_label(c, a, la, sizeof la),
+                             sim__body_label(c, b, lb, sizeof lb));
+    if (s->n_mass >= SIM_MAX_MASS)
+        return sim__fail(c, "mass: too many couplings (%d)", SIM_MAX_MASS);
+    s->mass[s->n_mass].a = a;
+    s->mass[s->n_mass].b = b;
+    s->mass[s->n_mass].m = (edmi_real)m;
+    s->n_mass++;
+    return 0;
+}
+
 static int sim__key_force(sim__ctx *c)
 {
     static const char *const names[] = {"BODY", "fx", "fy", "fz"};
@@ -750,6 +787,7 @@ static int sim__line(sim__ctx *c, char *buf)
                 {"pair", sim__key_pair},     {"pairs", sim__key_pairs},
                 {"chain", sim__key_chain},   {"field", sim__key_field},
                 {"damper", sim__key_damper}, {"force", sim__key_force},
+                {"mass", sim__key_mass},
                 {"set", sim__key_set},       {"title", sim__key_title}};
     char *p = strchr(buf, '#');
     size_t i;
@@ -887,5 +925,7 @@ edmi_scene sim_scene_view(const sim_scene *s)
     for (i = 0; i < 3; i++)
         v.g[i] = s->g[i];
     v.params = &s->params;
+    v.n_mass_couplings = s->n_mass;
+    v.mass_couplings = s->n_mass ? s->mass : 0;
     return v;
 }

@@ -23,6 +23,13 @@
 /** Room for one error message. */
 #define SIM_ERR_MAX 320
 
+/** Off-diagonal masses a scene can hold: one per body and gap. */
+#if EDMI_MAX_MASS_GAP > 0
+#define SIM_MAX_MASS (EDMI_MAX_BODIES * EDMI_MAX_MASS_GAP)
+#else
+#define SIM_MAX_MASS 1
+#endif
+
 /** A parsed scene: bodies, links, dampers and field as edmi data, plus force ports and the
  *  settings the file declared. Large (it holds EDMI_MAX_* arrays): make it static. */
 typedef struct sim_scene {
@@ -33,6 +40,8 @@ typedef struct sim_scene {
     edmi_link link[EDMI_MAX_LINKS];
     int n_dampers;
     edmi_damper damper[EDMI_MAX_DAMPERS];
+    int n_mass;                              /*!< off-diagonal masses (`mass A B m`) */
+    edmi_mass_coupling mass[SIM_MAX_MASS];
     int has_field;
     edmi_real g[3];                          /*!< field acceleration [L/T^2] */
     int n_forces;                            /*!< force ports */

@@ -61,5 +61,22 @@ elif grep -q 'scene hanging_chain needs EDMI_MAX_BODIES >= 6, EDMI_MAX_LINKS >= 
 else
     bad "EDMI_MAX_DAMPERS=4: $(head -2 <<<"$out")"
 fi
+# A scene with coupled masses: emitted with its couplings, it loads where the build takes
+# them (EDMI_MAX_MASS_GAP = 1) and stops the build with its #error where it does not.
+"$sim" examples/scenes/cable_consistent.scene --emit-c > "$tmp/cable.h"
+printf '#include "cable.h"\nstatic edmi_system s;\nint main(void) { return edmi_load_scene(&s, &cable_consistent_scene) == EDMI_OK && s.mass_off[1][0] > 0 ? 0 : 3; }\n' > "$tmp/cable.c"
+if $cc -std=c99 -DEDMI_MAX_MASS_GAP=1 -I. -I$tmp "$tmp/cable.c" edmi.c -o "$tmp/cable" -lm &&
+        "$tmp/cable"; then
+    ok "cable_consistent: emitted couplings load with EDMI_MAX_MASS_GAP=1"
+else
+    bad "cable_consistent: the emitted scene does not load with EDMI_MAX_MASS_GAP=1"
+fi
+if out=$($cc -std=c99 -I. -I$tmp -c "$tmp/cable.c" -o "$tmp/x.o" 2>&1); then
+    bad "cable_consistent with EDMI_MAX_MASS_GAP=0: compiled"
+elif grep -q 'scene cable_consistent couples masses 1 bodies apart: it needs EDMI_MAX_MASS_GAP >= 1' <<<"$out"; then
+    ok "EDMI_MAX_MASS_GAP=0: the cable's #error names what it needs"
+else
+    bad "EDMI_MAX_MASS_GAP=0: $(head -2 <<<"$out")"
+fi
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

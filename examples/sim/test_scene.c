@@ -147,6 +147,14 @@ static void test_indices(void)
     EXPECT_ERROR(TWO "pair -1 0 lj 1 1\n", "t.scene:3: ", "body index -1 out of range");
     EXPECT_ERROR(TWO "pair 0 earth lj 1 1\n", "t.scene:3: ", "unknown body 'earth'");
     EXPECT_ERROR(TWO "pair 1 1 lj 1 1\n", "t.scene:3: ", "links body 1 to itself");
+    EXPECT_ERROR(TWO "mass 1 1 0.1\n", "t.scene:3: ", "mass: couples body 1 to itself");
+    EXPECT_ERROR(TWO "mass 0 1 0.1\nmass 1 0 0.2\n", "t.scene:4: ",
+                 "mass: body 1 and body 0 are already coupled on an earlier line");
+    EXPECT_ERROR(TWO "body 1 0 0 0 0 0 0\nmass 0 3 0.1\n", "t.scene:4: ", "mass: body index 3");
+    EXPECT_ERROR(TWO "body 1 0 0 0 0 0 0\nbody 1 0 0 0 0 0 0\nmass 0 3 0.1\n", "t.scene:5: ",
+                 "mass: body 0 and body 3 are 3 bodies apart; this build couples masses at most "
+                 "EDMI_MAX_MASS_GAP = 2 apart");
+    EXPECT_ERROR(TWO "mass 0 1\n", "t.scene:3: ", "mass: missing m_AB");
     EXPECT_ERROR("body a 1 0 0 0 0 0 0\nbody b 1 0 0 0 0 0 0\npair a b lj 1 1\n", "t.scene:3: ",
                  "body 0 (a) and body 1 (b) are at the same position");
     EXPECT_ERROR(TWO "anchor 1 1 0 0 harmonic 1 1\n", "t.scene:3: ", "sits on its anchor point");

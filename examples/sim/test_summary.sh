@@ -55,5 +55,14 @@ else
     bad "--row: us/step column '$cost' in: $row"
 fi
 
+# 6. The general mass matrix: the cable with consistent masses (`mass` lines), PM with the
+#    guard and the energy balance on: H never rises, the balance holds, exit 0.
+out=$("$sim" "$scenes/cable_consistent.scene" --energy-balance --quiet); rc=$?
+if [ $rc = 0 ] && [ "$(rises "$out")" = "0 2000 0" ] && grep -q '^balance .*: ok$' <<<"$out"; then
+    ok "PM, cable with a consistent (coupled) mass matrix: H rose in 0 of 2000 steps, balance ok"
+else
+    bad "PM, consistent cable: exit $rc: $(grep -E '^(H steps|balance)' <<<"$out")"
+fi
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -614,6 +614,7 @@ static void fz_op_scene(fz_in *in, int *n_user)
     static edmi_body bodies[EDMI_MAX_BODIES];
     static edmi_link links[EDMI_MAX_LINKS];
     static edmi_damper dampers[EDMI_MAX_DAMPERS];
+    static edmi_mass_coupling couplings[2 * EDMI_MAX_BODIES];
     edmi_params prm = fz_params(in);
     edmi_scene sc;
     edmi_status st;
@@ -645,6 +646,13 @@ static void fz_op_scene(fz_in *in, int *n_user)
     sc.has_field = (int)(fz_u8(in) & 1u);
     fz_vec(in, sc.g);
     sc.params = (fz_u8(in) & 1u) ? &prm : 0;
+    sc.n_mass_couplings = fz_index(in, 2 * EDMI_MAX_BODIES + 1);
+    for (k = 0; k < 2 * EDMI_MAX_BODIES && k < sc.n_mass_couplings; k++) {
+        couplings[k].a = fz_index(in, sc.n_bodies);
+        couplings[k].b = fz_index(in, sc.n_bodies);
+        couplings[k].m = fz_real(in);
+    }
+    sc.mass_couplings = (fz_u8(in) == 255u) ? 0 : couplings;
     memcpy(&fz_before, &fz_sys, sizeof fz_sys);
     st = edmi_load_scene(&fz_sys, &sc);
     fz_unchanged(st, "edmi_load_scene", &fz_sys, &fz_before, 0, 0, 0);
