@@ -25,8 +25,14 @@
  * reals + 2 ints in edmi_workspace per link. */
 /* #define EDMI_MAX_LINKS 64 */
 
-/* Viscous dampers per system: an int and a real in edmi_system, 9 reals in edmi_workspace. */
+/* Viscous dampers per system: an int and a real in edmi_system, 9 reals in edmi_workspace.
+ * 0 compiles dampers out. */
 /* #define EDMI_MAX_DAMPERS 16 */
+
+/* The general mass matrix: the largest body-index gap of a coupled mass (1 for consistent
+ * masses of bar elements along a chain); N G reals in edmi_system. 0 compiles it out
+ * (README, "The general mass matrix"). */
+/* #define EDMI_MAX_MASS_GAP 0 */
 
 /* Reals in the Newton matrix: the dense 9 N^2 by default; a chain of N bodies needs 48 N
  * (README, "Solver"). */
