@@ -35,6 +35,8 @@ if [ "${SIM_FULL:-0}" = 1 ]; then # the ten-body tol_Q study: 9 more long runs
     done; done
 fi
 add "chain_pm $S/hanging_chain.scene --scheme pm --energy-balance --every 5"
+add "cable_consistent $S/cable_consistent.scene --every 5"
+add "cable_lumped $S/cable_lumped.scene --every 5"
 for q in 4 6 8; do for a in janz ge pm; do
     add "lj_q${q}_$a $S/lj_two_body.scene --scheme lg --lg-switch $a --tol-q 1e-$q"
 done; done
@@ -63,6 +65,32 @@ if [ -n "${HAPTIC:-}" ]; then
         exit 1
     fi
 fi
+
+# The hanging cable, consistent against lumped masses: the two traces side by side (same
+# rows), and the highest axial mode's frequency run by PM at steps dt against the exact FE
+# value and the mid-point's (2/dt) atan(omega dt/2) (examples/plots/cable_mode.awk; 4000
+# steps each; the tip is body 8: x in column 20 + 6 * 7).
+paste -d, "$data/cable_consistent.csv" "$data/cable_lumped.csv" >"$data/cable_tips.csv" || exit 1
+modes=$data/cable_modes.dat
+echo "# dt omega_FE omega_midpoint omega_run (consistent) then the same (lumped); rad/s" >"$modes"
+echo "make plots: the cable's highest axial mode, PM, relative error of the run against (2/dt) atan(omega_FE dt/2):"
+for dt in 1e-4 2e-4 5e-4 1e-3 2e-3 5e-3 1e-2 2e-2 3e-2; do
+    row=$dt
+    for c in 1 0; do
+        scene=$data/cable_mode_$c.scene
+        awk -v consistent=$c -v dt=$dt -v steps=4000 -f $P/cable_mode.awk >"$scene" || exit 1
+        if ! "$sim" "$scene" --quiet --csv "$data/cable_mode_$c.csv" >"$data/cable_mode_$c.txt" 2>&1; then
+            cat "$data/cable_mode_$c.txt" >&2
+            exit 1
+        fi
+        fe=$(sed -n 's/.*FE omega //p' "$scene")
+        run=$(awk -v col=62 -v x0=0.8 -f $P/crossings.awk "$data/cable_mode_$c.csv")
+        row="$row $(awk -v fe="$fe" -v dt=$dt -v run="$run" \
+            'BEGIN { printf "%.12g %.12g %.12g", fe, 2 / dt * atan2(fe * dt / 2, 1), run }')"
+    done
+    echo "$row" >>"$modes"
+    echo "$row" | awk '{ printf "  dt %-6s consistent %.3e, lumped %.3e\n", $1, ($4 - $3) / $3, ($7 - $6) / $6 }'
+done
 
 draw() { # SCRIPT OUTPUT.png [gnuplot assignments]
     local script=$1 png=$2
@@ -93,6 +121,7 @@ draw orbits.gp solar_inner.png "bodies='1 2 3 4'; names='Mercury Venus Earth Mar
 draw orbits.gp solar_outer.png "bodies='5 6 7 8 9'; names='Jupiter Saturn Uranus Neptune Pluto'; range=50;" \
     "name='Outer planets, 5000 years sampled every 50 days'"
 draw chain.gp chain.png
+draw cable.gp cable.png
 if [ -n "${HAPTIC:-}" ]; then
     draw haptic.gp haptic_energy.png "prec='${HAPTIC_REAL:-double}';"
 fi
