@@ -1,3 +1,5 @@
+#include <float.h>
+
 #include "harness.h"
 
 static long th_npass;
@@ -26,19 +28,19 @@ void th_put_int(long v)
         th_putchar(buf[--n]);
 }
 
-void th_put_real(edmi_real x, int sig)
+void th_put_ld(long double x, int sig)
 {
     int e10 = 0, i;
-    edmi_real scale = EDMI_R(1.0);
+    long double scale = 1.0L;
     if (x != x) {
         th_puts("nan");
         return;
     }
-    if (x < EDMI_R(0.0)) {
+    if (x < 0.0L) {
         th_putchar('-');
         x = -x;
     }
-    if (x > EDMI_REAL_MAX) {
+    if (x > LDBL_MAX) {
         th_puts("inf");
         return;
     }
@@ -46,24 +48,24 @@ void th_put_real(edmi_real x, int sig)
         sig = 1;
     if (sig > 9)
         sig = 9;
-    if (x != EDMI_R(0.0)) {
-        while (x >= EDMI_R(10.0)) {
-            x /= EDMI_R(10.0);
+    if (x != 0.0L) {
+        while (x >= 10.0L) {
+            x /= 10.0L;
             e10++;
         }
-        while (x < EDMI_R(1.0)) {
-            x *= EDMI_R(10.0);
+        while (x < 1.0L) {
+            x *= 10.0L;
             e10--;
         }
     }
     for (i = 1; i < sig; i++)
-        scale *= EDMI_R(10.0);
+        scale *= 10.0L;
     {
         /* round to sig digits as an integer mantissa */
-        unsigned long mant = (unsigned long)(x * scale + EDMI_R(0.5));
+        unsigned long mant = (unsigned long)(x * scale + 0.5L);
         char buf[12];
         int n = 0;
-        if ((edmi_real)mant >= scale * EDMI_R(10.0)) {
+        if ((long double)mant >= scale * 10.0L) {
             mant /= 10UL;
             e10++;
         }
@@ -80,6 +82,8 @@ void th_put_real(edmi_real x, int sig)
     th_putchar('e');
     th_put_int(e10);
 }
+
+void th_put_real(edmi_real x, int sig) { th_put_ld((long double)x, sig); }
 
 void th_suite(const char *name)
 {

@@ -11,7 +11,8 @@ void th_putchar(int c);
 
 void th_puts(const char *s);
 void th_put_int(long v);
-/* Scientific notation with `sig` significant digits, computed in edmi_real. */
+/* Scientific notation with `sig` (1 to 9) significant digits, computed in long double. */
+void th_put_ld(long double x, int sig);
 void th_put_real(edmi_real x, int sig);
 void th_newline(void);
 
