@@ -2205,8 +2205,15 @@ static edmi_real edmi__ulp(edmi_real x)
 /* K's change when component c moves by k units: ((p + k u)^2 - p^2) / 2m. */
 static EDMI__INLINE edmi_real edmi__comp_dk(const edmi__comp *c, int k)
 {
+#if EDMI_MAX_MASS_GAP > 0
+    /* k u (2 pk + k u) / 2m: pk need not lie on p's grid (|pk| in a higher binade than |p|
+     * would round pk + k u by half a unit of its own, doubling or cancelling the step);
+     * bit for bit the expression below when pk = p */
+    return (edmi_real)k * c->u * (EDMI_R(2.0) * EDMI__PK(c) + (edmi_real)k * c->u) / c->m2;
+#else
     edmi_real v = EDMI__PK(c) + (edmi_real)k * c->u;
     return (v - EDMI__PK(c)) * (v + EDMI__PK(c)) / c->m2;
+#endif
 }
 
 /* How far the energy-aware rounding moves the picked components (energy steps s0 >= s1 >=
@@ -2633,7 +2640,11 @@ static void edmi__grad_q(const edmi_system *sys, const edmi_workspace *work, int
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
     int j, i;
     for (i = 0; i < 3; i++)
+#if EDMI_MAX_MASS_GAP > 0 /* the field pulls body a with (M 1)_a g */
+        g[i] = sys->has_field ? -edmi__mass_row(sys, a) * sys->g[i] : EDMI__ZERO;
+#else
         g[i] = sys->has_field ? -sys->body[a].m * sys->g[i] : EDMI__ZERO;
+#endif
     for (j = 0; j < sys->n_forced; j++)
         if (sys->forced[j] == a)
             for (i = 0; i < 3; i++)
@@ -2785,7 +2796,11 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         r = edmi__on_target(&t) ? 1 : edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
         if (r == 0)
             r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_WIDE_K0, res);
-        /* with a coupled M the search's estimates (one mass per body) can miss: drag too */
+        /* with a coupled M the search's estimates (one mass per body) can miss: drag too, if
+         * the rounded state (re-evaluated: t still describes the state before it) is not
+         * certified */
+        if (r > 0 && EDMI__COUPLED(sys) && !edmi__reaim(sys, work, bal, &t))
+            return EDMI_ERR_PASSIVITY;
         if ((r == 0 || EDMI__COUPLED(sys)) && !edmi__certified(&t) &&
             edmi__guard_drag(sys, work, t.goal)) {
             res->guard_action |= EDMI_GUARD_DRAG;
