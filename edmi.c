@@ -2769,7 +2769,7 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     edmi__dw h_newton;
     edmi__aim t;
     edmi_real terms;
-    int n, k[3], i, r;
+    int n, k[3], i, r, fresh;
     t.diss = diss;
     t.strict = EDMI__ZERO;
     if (!edmi__reaim(sys, work, bal, &t))
@@ -2796,10 +2796,11 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         r = edmi__on_target(&t) ? 1 : edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
         if (r == 0)
             r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_WIDE_K0, res);
-        /* with a coupled M the search's estimates (one mass per body) can miss: drag too, if
-         * the rounded state (re-evaluated: t still describes the state before it) is not
-         * certified */
-        if (r > 0 && EDMI__COUPLED(sys) && !edmi__reaim(sys, work, bal, &t))
+        /* with a coupled M the search's first-order model can miss: drag too, if the rounded
+         * state, re-evaluated (t still describes the state before the rounding), is not
+         * certified; t then describes the stored state unless the drag moves it */
+        fresh = r > 0 && EDMI__COUPLED(sys);
+        if (fresh && !edmi__reaim(sys, work, bal, &t))
             return EDMI_ERR_PASSIVITY;
         if ((r == 0 || EDMI__COUPLED(sys)) && !edmi__certified(&t) &&
             edmi__guard_drag(sys, work, t.goal)) {
@@ -2807,10 +2808,11 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
             if (!edmi__reaim(sys, work, bal, &t))
                 return EDMI_ERR_PASSIVITY;
             r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
+            fresh = 0;
         }
         if (r < 0)
             return EDMI_ERR_PASSIVITY;
-        if (!edmi__reaim(sys, work, bal, &t))
+        if (!fresh && !edmi__reaim(sys, work, bal, &t))
             return EDMI_ERR_PASSIVITY;
         /* last resort, e.g. a position's rounding larger than the kinetic energy left: any
          * candidate below the certificate, however far from the target */
