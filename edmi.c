@@ -112,10 +112,12 @@ static EDMI__INLINE edmi_real edmi__dot(const edmi_real a[3], const edmi_real b[
 #define EDMI__NORM_BIG EDMI_R(0x1p-600)
 #define EDMI__NORM_SMALL EDMI_R(0x1p+600)
 #define EDMI__NORM_SAFE_MIN EDMI_R(0x1p-968) /* 2^54 x the smallest normal */
+#define EDMI__REAL_MIN DBL_MIN
 #else
 #define EDMI__NORM_BIG EDMI_R(0x1p-70)
 #define EDMI__NORM_SMALL EDMI_R(0x1p+100)
 #define EDMI__NORM_SAFE_MIN EDMI_R(0x1p-100) /* 2^26 x the smallest normal */
+#define EDMI__REAL_MIN FLT_MIN
 #endif
 
 /* |a|. The plain sqrt(a . a) whenever a . a is finite and far enough above the subnormals
@@ -337,6 +339,19 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
     return EDMI_OK;
 }
 
+/* The magnitude M of a built-in potential's V at d, from its parts there: |V_c| + |V_e| +
+ * |V'| d. V as edmi__pot_parts computes it (v[0]) at a length d^ within 4 u of d (a link
+ * vector's difference and norm, u = EDMI_EPS / 2) errs from V(d) by at most 128 u M, barring
+ * underflow (edmi__pot_tiny): counting each formula's roundings and the error of d^ through
+ * V', harmonic 8 u M, quartic 43 u M, neo-Hooke 17 u M, Lennard-Jones 86 u M (its (s/d)^6 by
+ * five products of a quotient), inverse 6 u M. |V_c| + |V_e| carries V's own size where
+ * it is the small difference of two large terms (Lennard-Jones near its minimum, the quartic
+ * below its rest length). */
+static edmi_real edmi__pot_mag(const edmi_pot_parts *pp, edmi_real d)
+{
+    return edmi__abs(pp->c[0]) + edmi__abs(pp->e[0]) + edmi__abs(pp->v[1]) * d;
+}
+
 /* Complete homogeneous polynomial h = sum_{j=0..m} a^j b^(m-j) and dh/da, by Horner in a
  * (all terms positive for a, b > 0: no cancellation). */
 static void edmi__homog(int m, edmi_real a, edmi_real b, edmi_real *h, edmi_real *ha)
@@ -530,13 +545,17 @@ static void edmi__lambda_lg_alt(edmi_lg_alt alt, const edmi_link_ws *w, const ed
     }
 }
 
-/* beta and the tangent d f / d r_n+1 = dt (beta/2 I + gamma r_m (x) u) of one link. */
+/* beta and the tangent d f / d r_n+1 = dt (beta/2 I + gamma (r_m / rm_div) (x) u) of one
+ * link (rm_div 1 but where r_m is scaled to keep the factors within range). */
 typedef struct edmi__link_eval {
     edmi_real beta;
     edmi_real gamma;
     edmi_real u[3];
+    edmi_real rm_div;
     edmi_real beta_err; /* the LG quotient's cancellation error in beta */
     int switched;       /* LG used its alternate */
+    int have1;          /* V was evaluated at d_n+1: d1, v1 and its magnitude m1 */
+    edmi_real d1, v1, m1;
 } edmi__link_eval;
 
 /* A harmonic spring of rest length 0, V = k/2 d^2 = k/2 |r|^2, is a quadratic function of
@@ -550,7 +569,10 @@ typedef struct edmi__link_eval {
  *   GE  2 [V_c'(d_n+1) + V_e'(d_n)] / (d_n + d_n+1) = 2 k d_n+1 / (d_n + d_n+1) in [0, 2k]
  *       (V_c = V, V_e = 0): bounded; at d_n = d_n+1 = 0 r_m = 0 and f = 0 whatever beta
  *       (take k); d beta / d r_n+1 = 2 k d_n / (d_n + d_n+1)^2 r_n+1/d_n+1, bounded by 2k/d_n
- *       and taken as 0 at d_n+1 = 0 (where |r_n+1| has no derivative). */
+ *       and taken as 0 at d_n+1 = 0 (where |r_n+1| has no derivative). Its tangent term
+ *       gamma r_m (x) u is at most k, but gamma alone grows like 1/d^2: it is formed as
+ *       2k (d_n/s) (r_m/s) (x) (r_n+1/d_n+1), s = d_n + d_n+1, each factor at most 2k or 1,
+ *       so that a body settling onto its anchor (d ~ 1e-20 in float) keeps a finite tangent. */
 static int edmi__is_linear(const edmi_potential *pot)
 {
     return pot->kind == EDMI_POT_HARMONIC && pot->b == EDMI__ZERO;
@@ -564,9 +586,14 @@ static void edmi__beta_linear(edmi_scheme scheme, edmi_real k, const edmi_link_w
     le->gamma = EDMI__ZERO;
     edmi__copy3(r1, le->u);
     if (scheme == EDMI_GE && s > EDMI__ZERO) {
+        int i;
         le->beta = EDMI_R(2.0) * k * (d1 / s);
-        if (d1 > EDMI__ZERO)
-            le->gamma = EDMI_R(2.0) * k * (w->d0 / s) / (s * d1);
+        if (d1 > EDMI__ZERO) {
+            le->gamma = EDMI_R(2.0) * k * (w->d0 / s);
+            le->rm_div = s;
+            for (i = 0; i < 3; i++)
+                le->u[i] = r1[i] / d1;
+        }
     }
 }
 
@@ -623,6 +650,10 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
             st = edmi__pot_parts(pot, e.d1, &e.p1);
             if (st != EDMI_OK)
                 return st;
+            le->have1 = 1; /* kept for the guard's plain certificate */
+            le->d1 = e.d1;
+            le->v1 = e.p1.v[0];
+            le->m1 = edmi__pot_mag(&e.p1, e.d1);
         }
         if (need & EDMI__NEED_AVG) {
             st = edmi__pot_parts(pot, EDMI__HALF * (w->d0 + e.d1), &e.pa);
@@ -689,6 +720,7 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         if (st != EDMI_OK)
             return st;
         w->v0 = p0.v[0];
+        w->m0 = edmi__pot_mag(&p0, w->d0);
         w->dv0 = p0.v[1];
         w->dve0 = p0.e[1];
         w->d3p0 = p0.sp[3];
@@ -747,20 +779,21 @@ static edmi_real edmi__off_scene(const void *ctx, int a, int b)
     return EDMI__ZERO;
 }
 
-/* Cholesky M = L L^T row by row (M's diagonal from body[], its off-diagonal masses from
- * off), L's rows within the gap G kept in a ring of G + 1 rows (row r in ring[r % (G + 1)],
- * its column i at index i - r + G). With k, also the forward substitution y = L^-1 p of the
- * bodies' momenta (per component) and *k = 1/2 |y|^2 = 1/2 p . M^-1 p. Returns 0 if a pivot
- * is not positive or not finite: M is not (numerically) positive definite. */
+/* Cholesky M - shift I = L L^T row by row (M's diagonal from body[], its off-diagonal masses
+ * from off), L's rows within the gap G kept in a ring of G + 1 rows (row r in
+ * ring[r % (G + 1)], its column i at index i - r + G). With k, also the forward substitution
+ * y = L^-1 p of the bodies' momenta (per component) and *k = 1/2 |y|^2 = 1/2 p . M^-1 p; with
+ * dmin, the smallest pivot (L_aa^2). Returns 0 if a pivot is not positive or not finite. */
 static int edmi__cholesky(int n, const edmi_body *body, edmi__off_fn off, const void *ctx,
-                          const edmi_real (*p)[3], edmi_real *k)
+                          const edmi_real (*p)[3], edmi_real *k, edmi_real shift,
+                          edmi_real *dmin)
 {
     edmi_real ring[EDMI_MAX_MASS_GAP + 1][EDMI_MAX_MASS_GAP + 1], y[EDMI_MAX_MASS_GAP + 1][3];
     const int g = EDMI_MAX_MASS_GAP, w = EDMI_MAX_MASS_GAP + 1;
     edmi_real kin = EDMI__ZERO;
     int a, i, j, c;
     for (a = 0; a < n; a++) {
-        edmi_real *la = ring[a % w], d = body[a].m;
+        edmi_real *la = ring[a % w], d = body[a].m - shift;
         int lo = a - g > 0 ? a - g : 0;
         for (j = lo; j < a; j++) {
             const edmi_real *lj = ring[j % w];
@@ -772,6 +805,8 @@ static int edmi__cholesky(int n, const edmi_body *body, edmi__off_fn off, const 
         }
         if (!edmi__finite(d) || !(d > EDMI__ZERO))
             return 0;
+        if (dmin && (a == 0 || d < *dmin))
+            *dmin = d;
         la[g] = EDMI_SQRT(d);
         if (k)
             for (c = 0; c < 3; c++) {
@@ -789,7 +824,43 @@ static int edmi__cholesky(int n, const edmi_body *body, edmi__off_fn off, const 
 
 static int edmi__mass_cholesky(const edmi_system *sys, edmi_real *k)
 {
-    return edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys, 0, k);
+    return edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys, 0, k, EDMI__ZERO, 0);
+}
+
+/* A lower bound on M's smallest eigenvalue, proved in floating point (Rump, "Verification of
+ * positive definiteness", BIT 46, 2006): if the Cholesky factorisation of A = fl(M - s I)
+ * runs to completion, then R^T R = A + E with |E| <= gamma_n+1 |R^T| |R| (Higham, Accuracy
+ * and Stability, Thm 10.3), so ||E||_2 <= || |R| ||_F^2 gamma_n+1 <= tr(A) gamma_n+1 /
+ * (1 - gamma_n+1), and A differs from M - s I by u m_aa on its diagonal: lambda_min(M) >=
+ * s - (n + 2) eps tr(M) - eps max m_aa. The shift s is tried at 2^-1, 2^-5, 2^-9 and 2^-13
+ * of the smallest pivot of M's own factorisation (an upper bound on lambda_min). Needs no
+ * diagonal dominance: a consistent triangle's (m/12)[2 1 1; 1 2 1; 1 1 2] gets ~m/24. 0 if
+ * no bound is positive: M is not positive definite to a degree working precision proves. */
+static edmi_real edmi__mass_lambda_min(int n, const edmi_body *body, edmi__off_fn off,
+                                       const void *ctx)
+{
+    edmi_real dmin = EDMI__ZERO, tr = EDMI__ZERO, mmax = EDMI__ZERO, s, lam;
+    int a, k;
+    if (!edmi__cholesky(n, body, off, ctx, 0, 0, EDMI__ZERO, &dmin))
+        return EDMI__ZERO;
+    for (a = 0; a < n; a++) {
+        tr += body[a].m;
+        mmax = edmi__max(mmax, body[a].m);
+    }
+    for (k = 1, s = EDMI__HALF * dmin; k <= 13; k += 4, s *= EDMI_R(0.0625)) {
+        if (!edmi__cholesky(n, body, off, ctx, 0, 0, s, 0))
+            continue;
+        lam = (s - (edmi_real)(n + 2) * EDMI_EPS * tr - EDMI_EPS * mmax -
+               (edmi_real)((n + 1) * (n + 1)) * EDMI_R(1024.0) * EDMI__REAL_MIN) *
+              (EDMI__ONE - EDMI_R(4.0) * EDMI_EPS);
+        return lam > EDMI__ZERO ? lam : EDMI__ZERO; /* a smaller s cannot do better */
+    }
+    return EDMI__ZERO;
+}
+
+static int edmi__mass_provable(const edmi_system *sys)
+{
+    return edmi__mass_lambda_min(sys->n_bodies, sys->body, edmi__off_sys, sys) > EDMI__ZERO;
 }
 #endif
 
@@ -832,27 +903,27 @@ static void edmi__mass_residual(const edmi_system *sys, const edmi_real (*q1)[3]
 }
 
 /* Linear viscous damper along a link (section "effects" of README): impulse
- *     I = c (dr . r_m) r_m / |r_m|^2,   dr = r_n+1 - r_n,
+ *     I = c (dr . n) n,   dr = r_n+1 - r_n,   n = r_m / |r_m|,
  * is parallel to r_m, so L, J and C are conserved (lemma many-body-momentum), and it removes
- * exactly dr . I / dt = c (dr . r_m)^2 / (|r_m|^2 dt) >= 0 per step (*loss = dr . I, formed as
- * (c s / |r_m|^2) s so that its sign survives rounding: summed as dr . I over the rounded
- * impulse it came out negative for c = 4.9e-324, a subnormal impulse). Its tangent
- * k = dI / dr_n+1 follows from d r_m = dr_n+1 / 2, so with s = dr . r_m, ds = (r_m + dr/2)
- * and d |r_m|^2 = 2 r_m . d r_m = r_m:
- *     k = c / |r_m|^2 [r_m (r_m + dr/2 - s r_m / |r_m|^2)^T + s/2 I].
+ * exactly dr . I / dt = c (dr . n)^2 / dt >= 0 per step (*loss = (c s) s with s = dr . n, so
+ * that its sign survives rounding). Its tangent k = dI / dr_n+1 follows from d r_m =
+ * dr_n+1 / 2 and dn = (I - n n^T) d r_m / |r_m|:
+ *     k = c [n (n + (dr/2 - s n) / |r_m|)^T + s / (2 |r_m|) I].
  * On one axis (dr parallel to r_m) this is k = c, the linear damper's. An error in the
- * |r_m|^2 term grows like c |dr| / |r_m|, and stalls Newton whenever a body crosses its
- * anchor (tests/test_tangent.c, part 6). */
+ * 1/|r_m| terms grows like c |dr| / |r_m|, and stalls Newton whenever a body crosses its
+ * anchor (tests/test_tangent.c, part 6). Formed from the unit vector n, not from |r_m|^2:
+ * a body settling onto its anchor has |r_m|^2 below the smallest normal (float, d < 1e-19),
+ * where c / |r_m|^2 overflowed. */
 static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_real r1[3],
                                 edmi_real imp[3], edmi_real k[9], edmi_real *loss)
 {
-    edmi_real dr[3], rm[3], m2, s, cs;
+    edmi_real dr[3], n[3], rho, s, cs;
     int i, j;
     edmi__sub(r1, w->r0, dr);
     for (i = 0; i < 3; i++)
-        rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
-    m2 = edmi__dot(rm, rm);
-    if (m2 == EDMI__ZERO) { /* a zero-length link at mid-step: no direction, no impulse */
+        n[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+    rho = edmi__norm(n);
+    if (rho == EDMI__ZERO) { /* a zero-length link at mid-step: no direction, no impulse */
         for (i = 0; i < 3; i++)
             imp[i] = EDMI__ZERO;
         for (i = 0; i < 9; i++)
@@ -860,16 +931,18 @@ static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_r
         *loss = EDMI__ZERO;
         return EDMI_OK;
     }
-    if (!(m2 > EDMI__ZERO))
+    if (!(rho > EDMI__ZERO) || !edmi__finite(rho))
         return EDMI_ERR_DIVERGED;
-    s = edmi__dot(dr, rm);
-    cs = c * s / m2;
-    *loss = cs * s; /* dr . I = c s^2 / |r_m|^2, >= 0 as computed (cs has the sign of s) */
+    for (i = 0; i < 3; i++)
+        n[i] /= rho;
+    s = edmi__dot(dr, n);
+    cs = c * s;
+    *loss = cs * s; /* dr . I = c s^2, >= 0 as computed (cs has the sign of s) */
     for (i = 0; i < 3; i++) {
-        imp[i] = cs * rm[i];
+        imp[i] = cs * n[i];
         for (j = 0; j < 3; j++)
-            k[3 * i + j] = c / m2 * rm[i] * (rm[j] + EDMI__HALF * dr[j] - s / m2 * rm[j]) +
-                           (i == j ? EDMI__HALF * cs : EDMI__ZERO);
+            k[3 * i + j] = c * n[i] * (n[j] + (EDMI__HALF * dr[j] - s * n[j]) / rho) +
+                           (i == j ? EDMI__HALF * cs / rho : EDMI__ZERO);
     }
     return EDMI_OK;
 }
@@ -929,6 +1002,9 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
     for (i = 0; i < 3; i++)
         rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
     le.switched = 0;
+    le.rm_div = EDMI__ONE;
+    le.have1 = 0;
+    le.d1 = le.v1 = le.m1 = EDMI__ZERO;
     le.beta_err = EDMI__ZERO;
     st = EDMI_OK;
     if (edmi__is_linear(&lk->pot))
@@ -940,12 +1016,16 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
     if (st != EDMI_OK)
         return st;
     *switched = le.switched;
+    w->have1 = le.have1;
+    w->d1 = le.d1;
+    w->v1 = le.v1;
+    w->m1 = le.m1;
     w->beta = le.beta;
     w->gamma = le.gamma;
     w->noise = dt * edmi__norm(rm) * le.beta_err;
     for (i = 0; i < 3; i++) {
         f[i] = dt * le.beta * rm[i];
-        w->rm[i] = rm[i];
+        w->rm[i] = le.rm_div == EDMI__ONE ? rm[i] : rm[i] / le.rm_div;
         w->u[i] = le.u[i];
     }
     return EDMI_OK;
@@ -1480,7 +1560,7 @@ static int edmi__params_valid(const edmi_params *p)
             p->lg_alt == EDMI_ALT_GE || p->lg_alt == EDMI_ALT_PM || p->lg_alt == EDMI_ALT_PT) &&
            edmi__finite(p->tol_q) && p->tol_q > EDMI__ZERO && edmi__finite(p->tol_r) &&
            p->tol_r >= EDMI__ZERO && edmi__finite(p->tol_a) && p->tol_a >= EDMI__ZERO &&
-           p->l_max >= 1 &&
+           p->l_max >= 1 && edmi__finite(p->tank_cap) && p->tank_cap >= EDMI__ZERO &&
            (p->guard == EDMI_GUARD_AUTO || p->guard == EDMI_GUARD_ON ||
             p->guard == EDMI_GUARD_OFF);
 }
@@ -1518,9 +1598,9 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
     }
     if (sys->has_field && !edmi__finite3(sys->g))
         return EDMI_ERR_NONFINITE;
-    if (!edmi__finite(sys->t) || !edmi__finite(sys->t_carry))
+    if (!edmi__finite(sys->t) || !edmi__finite(sys->t_carry) || !edmi__finite(sys->tank))
         return EDMI_ERR_NONFINITE;
-    return EDMI_OK;
+    return sys->tank >= EDMI__ZERO ? EDMI_OK : EDMI_ERR_PARAM;
 }
 
 /* The counts every entry point relies on before it indexes an array: a caller that wrote
@@ -1578,8 +1658,8 @@ static edmi_status edmi__validate_system(const edmi_system *sys)
             if (!edmi__finite(sys->mass_off[i][k]))
                 return EDMI_ERR_NONFINITE;
     }
-    if (EDMI__COUPLED(sys) && !edmi__mass_cholesky(sys, 0))
-        return EDMI_ERR_MASS; /* a mass written since: M no longer positive definite */
+    if (EDMI__COUPLED(sys) && !edmi__mass_provable(sys))
+        return EDMI_ERR_MASS; /* a mass written since: M no longer provably definite */
 #endif
     return edmi__validate_effects(sys);
 }
@@ -1614,10 +1694,8 @@ typedef struct edmi__dw {
 
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
 #define EDMI__SPLIT EDMI_R(134217729.0) /* 2^27 + 1 */
-#define EDMI__REAL_MIN DBL_MIN
 #else
 #define EDMI__SPLIT EDMI_R(4097.0) /* 2^12 + 1 */
-#define EDMI__REAL_MIN FLT_MIN
 #endif
 
 static edmi__dw edmi__dw_of(edmi_real x)
@@ -1747,15 +1825,19 @@ static edmi__dw edmi__dw_dot(const edmi_real a[3], const edmi_real b[3])
     return edmi__dw_add(s, edmi__two_prod(a[2], b[2]));
 }
 
-/* f . (a - b) with a - b formed exactly. */
-static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const edmi_real b[3])
+/* f . (a - b) k^2 with a - b formed exactly and k a power of two (exact). */
+static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const edmi_real b[3],
+                              edmi_real k)
 {
     edmi__dw d[3], s;
     int i;
     edmi__dw_diff3(a, b, d);
     s = edmi__dw_of(EDMI__ZERO);
-    for (i = 0; i < 3; i++)
+    for (i = 0; i < 3; i++) {
+        d[i].hi = d[i].hi * k * k;
+        d[i].lo = d[i].lo * k * k;
         s = edmi__dw_add(s, edmi__dw_mul_r(d[i], f[i]));
+    }
     return s;
 }
 
@@ -1774,45 +1856,73 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
 #define EDMI__DW_ERR (EDMI_R(256.0) * EDMI_EPS * EDMI_EPS)
 #define EDMI__DW_TINY (EDMI_R(1024.0) * EDMI__REAL_MIN)
 
-/* A user potential is evaluated by its callback in working precision: the guard assumes the
- * callback's c + e is within this many eps of |c| + |e| (plus |V'| times the rounding of d). */
-#define EDMI__USER_ERR (EDMI_R(8.0) * EDMI_EPS)
-
-/* V of a link whose squared length is s (and length d = sqrt s), in double-word, with the
- * bound *err on its error. The zero-rest-length harmonic spring needs no square root. */
-static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
-                                edmi_real *err)
+/* What a potential's coefficient (a/2, a/4, a/6, 4a) multiplies at length d (s = d^2): the
+ * coefficient's own underflow (a near the smallest normals; measured: a = 1.4e-45 in float,
+ * whose a/2 is 0) errs by this many subnormal units. */
+static edmi_real edmi__pot_span(const edmi_potential *pot, edmi_real d, edmi_real s)
 {
-    edmi_real a = pot->a, b = pot->b, m, u, r;
+    edmi_real b = pot->b, t;
+    switch (pot->kind) {
+    case EDMI_POT_HARMONIC:
+        return b == EDMI__ZERO ? s : (d + b) * (d + b);
+    case EDMI_POT_QUARTIC:
+        return (s + b * b) * (s + b * b);
+    case EDMI_POT_NEO_HOOKE:
+        return (d + b) * (d + b) * (d + EDMI_R(2.0) * b) / d;
+    case EDMI_POT_LJ:
+        t = b / d;
+        t = t * t * t;
+        return t * t * (t * t + EDMI__ONE);
+    default:
+        return EDMI__ZERO; /* inverse: a itself, exact */
+    }
+}
+
+/* The underflow allowance of V at length d (s = d^2) whose magnitude is m, for the double-word
+ * evaluation and the plain one alike (each formula is a chain of the same products):
+ * underflow in s, amplified by |dV/ds| = |V'| / 2d <= m / s (none for V = a s / 2, whose s
+ * may be 0), in the products after it (the coefficient a, over d for neo-Hooke and inverse)
+ * and in the coefficient (edmi__pot_span). EDMI__DW_TINY is 2^10 of the smallest normal, far
+ * above one product's subnormal unit. */
+static edmi_real edmi__pot_tiny(const edmi_potential *pot, edmi_real d, edmi_real s, edmi_real m)
+{
+    edmi_real a = edmi__abs(pot->a), r = edmi__pot_span(pot, d, s);
+    edmi_real u = edmi__is_linear(pot) ? a + r
+                                       : a * (EDMI__ONE + EDMI__ONE / d) + EDMI_R(8.0) * m / s + r;
+    return EDMI__DW_TINY * (EDMI__ONE + EDMI_R(16.0) * u);
+}
+
+/* V of a built-in link whose squared length is s (and length d = sqrt s), in double-word,
+ * with the bound *err on its error. The zero-rest-length harmonic spring needs no square
+ * root. m, the term's magnitude, is |V| + |V'| d (or the sum of its parts' sizes, where
+ * those cancel): near a rest length V and V' vanish, and so does the error, which comes
+ * from the square root's ~18 u^2 d in d - b (u = eps/2). */
+static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
+                         edmi_real *err)
+{
+    edmi_real a = pot->a, b = pot->b, m;
     edmi__dw x, t;
-    edmi_pot_parts pp;
-    /* m: the term's magnitude; r: what its coefficient (a/2, a/4, a/6, 4a) multiplies, whose
-     * own underflow (a near the smallest normals) r times a subnormal unit covers */
     switch (pot->kind) {
     case EDMI_POT_HARMONIC:
         if (b == EDMI__ZERO) {
             *v = edmi__dw_mul_r(s, EDMI__HALF * a);
             m = EDMI__HALF * a * s.hi;
-            r = s.hi;
         } else {
             x = edmi__dw_add(d, edmi__dw_of(-b));
             *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
-            m = EDMI__HALF * a * (d.hi + b) * (d.hi + b);
-            r = (d.hi + b) * (d.hi + b);
+            m = a * edmi__abs(x.hi) * (edmi__abs(x.hi) + d.hi);
         }
         break;
     case EDMI_POT_QUARTIC:
         x = edmi__dw_sub(s, edmi__two_prod(b, b));
         *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI_R(0.25) * a);
-        m = EDMI_R(0.25) * a * (s.hi + b * b) * (s.hi + b * b);
-        r = (s.hi + b * b) * (s.hi + b * b);
+        m = a * edmi__abs(x.hi) * (s.hi + b * b);
         break;
     case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
         x = edmi__dw_add(d, edmi__dw_of(-b));
         t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add(d, edmi__dw_of(EDMI_R(2.0) * b)));
         *v = edmi__dw_div(edmi__dw_mul_r(t, a), edmi__dw_mul_r(d, EDMI_R(6.0)));
-        m = a / EDMI_R(6.0) * (d.hi + b) * (d.hi + b) * (d.hi + EDMI_R(2.0) * b) / d.hi;
-        r = (d.hi + b) * (d.hi + b) * (d.hi + EDMI_R(2.0) * b) / d.hi;
+        m = edmi__abs(v->hi) + a * edmi__abs(x.hi) * (d.hi + EDMI_R(2.0) * b) / EDMI_R(3.0);
         break;
     case EDMI_POT_LJ: /* 4 eps t^6 (t^6 - 1), t = sigma / d */
         t = edmi__dw_div(edmi__dw_of(b), d);
@@ -1821,52 +1931,45 @@ static edmi_status edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw 
         *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add(t, edmi__dw_of(-EDMI__ONE))),
                             EDMI_R(4.0) * a);
         m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
-        r = t.hi * (t.hi + EDMI__ONE);
         break;
     case EDMI_POT_INVERSE:
+    default: /* user potentials are bounded by edmi__user_dv instead */
         *v = edmi__dw_div(edmi__dw_of(-a), d);
         m = edmi__abs(a) / d.hi;
-        r = EDMI__ZERO; /* a itself, exact */
         break;
-    case EDMI_POT_USER:
-    default:
-        if (pot->fn(pot->ctx, d.hi, &pp) != 0)
-            return EDMI_ERR_DIVERGED;
-        *v = edmi__two_sum(pp.c[0], pp.e[0]);
-        *err = EDMI__USER_ERR * (edmi__abs(pp.c[0]) + edmi__abs(pp.e[0]) +
-                                 edmi__abs(pp.c[1] + pp.e[1]) * d.hi) +
-               EDMI__DW_TINY;
-        return EDMI_OK;
     }
-    /* underflow: in s, amplified by |dV/ds| <= 8 M / s (none for V = a s / 2, whose s may be
-     * 0), in the products after it (the coefficient a, over d for neo-Hooke, inverse) and in
-     * the coefficient (r; measured: a = 1.4e-45 in float, whose a/2 is 0) */
-    u = pot->kind == EDMI_POT_HARMONIC && b == EDMI__ZERO
-            ? a + r
-            : edmi__abs(a) * (EDMI__ONE + EDMI__ONE / d.hi) + EDMI_R(8.0) * m / s.hi + r;
-    *err = EDMI__DW_ERR * m + EDMI__DW_TINY * (EDMI__ONE + EDMI_R(16.0) * u);
-    return EDMI_OK;
+    *err = EDMI__DW_ERR * m + edmi__pot_tiny(pot, d.hi, s.hi, m);
 }
 
 /* ==========================================================================================
  * Energy-safe stepping (README, "Energy-safe stepping").
  *
- * With the guard on, every stored step satisfies
- *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor
- * exactly, for the stored values and the reported works. A working-precision H is ~eps H off
- * while the per-step changes that matter are far smaller (PM on the paper's spring dissipates
- * ~4e-10 H per step), so the change is evaluated term by term (each kinetic and link energy
- * at both ends of the step) in double-word arithmetic with a rigorous error bound.
- * Rounding the step's solution to the working precision's grid moves H by up to
- * ~eps |F| |q| either way, every step (~5e-7 H on the spring in float): a guard that only cut
- * rises would drain ~0.4 of that per step. So the guard chooses the stored momenta among
- * nearby grid points (energy-aware rounding) such that H changes by what the scheme's own
- * law says, work - diss_scheme - diss_damping, as closely as the grid allows, and never by
- * more than the work. Larger departures (a loose Newton tolerance, MP or LG under
- * EDMI_GUARD_ON) are first closed by an impulse along one link, which keeps L, J and C.
+ * With the guard on, every stored step satisfies, T being the energy tank (sys->tank),
+ *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor + T_n - T_n+1,
+ *     0 <= T_n+1 <= cap_n+1 = tank_cap eps S_n+1        (S: the magnitude of H's terms)
+ * exactly, for the stored values and the reported works. Summed over any window m..n of
+ * steps, H rises by at most the work supplied plus T_m <= cap_m: passivity as Colgate states
+ * it, with an energy tank as time-domain passivity controllers keep one (Hannaford and Ryu;
+ * Franken, Stramigioli et al.). tank_cap = 0 is the per-step inequality H_n+1 - H_n <= work.
+ *
+ * Rounding Newton's solution to the grid moves H by ~eps S either way, every step: a guard
+ * that removed every rise would drain ~0.15 eps S per step whether the scheme dissipates or
+ * not (measured in float). The tank absorbs that noise, so the guard changes the state only
+ * when the tank cannot cover a rise (~0.1-0.5 % of float steps at the default capacity).
+ * The step's change is certified by the cheapest evaluation that settles it:
+ *  1. plain: working precision with an a-priori bound relative to each term's size (Higham,
+ *     ch. 3), taken when the step dissipates more than the bound and the tank stays full (it
+ *     then loses nothing against 2.): most double steps of GE, PM and PT;
+ *  2. double-word (Joldes, Muller, Popescu): error ~eps^2 S; near the bottom of the range on
+ *     values scaled by a power of two (exact), so that a system coming to rest stays
+ *     certified with the same relative resolution;
+ *  3. only if the tank cannot cover the rise: the guard moves the state (an impulse along a
+ *     link, energy-aware rounding, a drag) to one whose rise it covers.
  * ======================================================================================== */
 
-/* The energy bookkeeping of one step in double-word arithmetic. */
+/* The energy bookkeeping of one step in double-word arithmetic. Every energy here is scale^2
+ * times the real one (edmi__set_scale: 1 unless the energies are near the bottom of the
+ * range). */
 typedef struct edmi__balance {
     edmi__dw dv;       /* V(q_n+1) - V(q_n): links (anchors where they are) and field */
     edmi__dw dk;       /* K(p_n+1) - K(p_n) */
@@ -1878,41 +1981,329 @@ typedef struct edmi__balance {
                           |beta| d^2), and m |g| |q| for the field: what a plain evaluation
                           of dv errs by, per unit of round-off */
     edmi_real size_k;  /* K_n + K_n+1 over the bodies whose momentum changed: the same for dk */
+    edmi_real scale;   /* 2^j, j >= 0: momenta and zero-rest-length link vectors are scaled by
+                          it, every other energy term twice (both exact; scale^2 itself may
+                          exceed the range) */
 } edmi__balance;
+
+/* The plain (working-precision) evaluation of the step's excess, and the magnitudes the tank's
+ * capacity and the scaling are set from. */
+typedef struct edmi__plain {
+    edmi_real e, m;    /* H_n+1 - H_n - work as computed, and a bound on its error */
+    edmi_real scheme;  /* diss_scheme as computed */
+    edmi_real s1;      /* the magnitude S of H's terms at the step's end (the tank's capacity) */
+    edmi_real s_other; /* the magnitude of the other terms at both ends and of the works */
+    edmi_real x_hom;   /* the largest momentum component and zero-rest-length link vector
+                          component at either end: what the terms homogeneous of degree two
+                          in them (K, k/2 |r|^2) are formed from */
+    int ok;            /* e and m hold (not with a coupled M: its K needs a solve) */
+} edmi__plain;
 
 static int edmi__same3(const edmi_real a[3], const edmi_real b[3])
 {
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-/* dv, scheme and err_v for the end state q1 (anchors at work->lw[j].x1). A term whose inputs
- * did not change is skipped: its change is exactly 0 (a body at rest certifies exactly). */
-/* One link's terms of the balance (stored in its workspace: edmi__delta_v). */
-static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
-                                      const edmi_link *lk, const edmi_real (*q1)[3])
+/* Whether a link's ends stayed where they were: its V term's change is then exactly 0. */
+static int edmi__link_still(const edmi_system *sys, const edmi_link_ws *w, const edmi_link *lk,
+                            const edmi_real (*q1)[3])
 {
-    edmi__dw r0[3], r1[3], s0, s1, d0, d1, v0, v1, dv, sc;
-    edmi_real e0, e1;
+    const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
+    return edmi__same3(sys->body[lk->a].q, q1[lk->a]) && edmi__same3(b0, edmi__end_b(lk, w, q1));
+}
+
+/* A user potential's V change, bounded above from its derivatives alone: the perturbed
+ * mid-point quadrature of the paper's lemma, applied to V_+' and V_-', gives exactly
+ *     V(d1) - V(d0) = Lambda_pm dd - dd^4/48 (V_+''''(xi) - V_-''''(xi')) <= Lambda_pm dd,
+ *     Lambda_pm = V'(d0 + dd/2) + dd^2/24 (V_+'''(d1) + V_-'''(d0)),   dd = d1 - d0,
+ * for any split with V_+'''' >= 0 >= V_-'''' (the one PM's energy decay needs). Its slack is
+ * PM's own dissipation, 0 for a quadratic V. dd is formed from the change of the link vector,
+ * dd = (r1 - r0).(r1 + r0) / (d0 + d1), so that *err, the bound on the evaluation's error,
+ * is relative to the change A = sum |r1 - r0| |r1 + r0| / (d0 + d1) >= |dd|, not to V: the
+ * callback's own error (assumed 8 eps of |V'|), the rounding of the evaluation points (through
+ * V''), of dd and of the products, each doubled for the neglected second-order terms.
+ * *ds = d1^2 - d0^2 and *mag1, the magnitude of V's terms at d1, are returned too. */
+static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
+                                 const edmi_link *lk, const edmi_real (*q1)[3], edmi_real *ub,
+                                 edmi_real *err, edmi_real *ds, edmi_real *mag1)
+{
     const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
     const edmi_real *b1 = edmi__end_b(lk, w, q1);
+    edmi_real r1[3], dr[3], sr[3], d1, a, dd, pert, lam;
+    edmi_pot_parts pa, p1;
     edmi_status st;
-    w->bal_on = !(edmi__same3(sys->body[lk->a].q, q1[lk->a]) && edmi__same3(b0, b1));
-    if (!w->bal_on)
-        return EDMI_OK;
-    edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
-    edmi__dw_diff3(q1[lk->a], b1, r1);
-    s0 = edmi__dw_sq3(r0);
-    s1 = edmi__dw_sq3(r1);
-    d0 = edmi__dw_sqrt(s0);
-    d1 = edmi__dw_sqrt(s1);
-    st = edmi__pot_dw(&lk->pot, s0, d0, &v0, &e0);
+    int i;
+    edmi__sub(q1[lk->a], b1, r1);
+    a = EDMI__ZERO;
+    for (i = 0; i < 3; i++) { /* r1 - r0 from the ends' own moves: relative to the change */
+        dr[i] = (q1[lk->a][i] - sys->body[lk->a].q[i]) - (b1[i] - b0[i]);
+        sr[i] = r1[i] + w->r0[i];
+        a += edmi__abs(dr[i]) * edmi__abs(sr[i]);
+    }
+    d1 = edmi__norm(r1);
+    *ds = edmi__dot(dr, sr);
+    dd = *ds / (w->d0 + d1);
+    a /= w->d0 + d1;
+    st = edmi__pot_parts(&lk->pot, w->d0 + EDMI__HALF * dd, &pa);
     if (st == EDMI_OK)
-        st = edmi__pot_dw(&lk->pot, s1, d1, &v1, &e1);
+        st = edmi__pot_parts(&lk->pot, d1, &p1);
     if (st != EDMI_OK)
         return st;
-    dv = edmi__dw_sub(v1, v0);
-    /* the work of f = dt beta r_m over the step, per dt: beta (d_n+1^2 - d_n^2) / 2 */
-    sc = edmi__dw_sub(edmi__dw_mul_r(edmi__dw_sub(s1, s0), EDMI__HALF * w->beta), dv);
+    pert = dd * dd / EDMI_R(24.0) * (p1.sp[3] + w->d3m0);
+    lam = pa.v[1] + pert;
+    *ub = lam * dd;
+    *err = EDMI_EPS * a *
+               (EDMI_R(16.0) * (edmi__abs(lam) + edmi__abs(pa.v[1]) + edmi__abs(pert)) +
+                EDMI_R(8.0) * edmi__abs(pa.v[2]) * (w->d0 + d1)) +
+           EDMI__DW_TINY;
+    *mag1 = edmi__pot_mag(&p1, d1);
+    return edmi__finite(*ub) && edmi__finite(*err) ? EDMI_OK : EDMI_ERR_RANGE;
+}
+
+/* The plain certificate (step 1 above): H_n+1 - H_n - work evaluated term by term in working
+ * precision with u = eps/2, each term with its a-priori error bound, relative to the size of
+ * its change where the formula allows: a body's kinetic change sum (p1 - p0)(p1 + p0) / 2m
+ * (8 eps of |p1 - p0| |p1 + p0| / 2m), the field's -m g.(q1 - q0), a link's V(d1) - V(d0)
+ * (64 eps of the magnitudes at both ends, edmi__pot_mag, or a user potential's bound), the
+ * works; the sum's own rounding adds (n + 2) eps of its terms. Also the magnitudes of H's
+ * terms (S at the end for the tank's capacity, all of them for the scaling) and
+ * diss_scheme, both as computed. */
+static edmi_status edmi__plain_excess(const edmi_system *sys, const edmi_workspace *work,
+                                      const edmi_step_result *res, edmi__plain *pl)
+{
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    const edmi_real (*p1)[3] = (const edmi_real (*)[3])work->p1;
+    edmi_real e = EDMI__ZERO, sum = EDMI__ZERO, err = EDMI__ZERO, so = EDMI__ZERO;
+    edmi_real s1 = EDMI__ZERO, sch = EDMI__ZERO, gn = sys->has_field ? edmi__norm(sys->g) : EDMI__ZERO;
+    edmi_real xh = EDMI__ZERO;
+    int a, i, j, n = 2;
+    pl->ok = !EDMI__COUPLED(sys);
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        edmi_real m2 = EDMI_R(2.0) * bd->m, t = EDMI__ZERO, mag = EDMI__ZERO;
+        for (i = 0; i < 3; i++) {
+            edmi_real d = p1[a][i] - bd->p[i], s = p1[a][i] + bd->p[i];
+            t += d * s;
+            mag += edmi__abs(d) * edmi__abs(s);
+            xh = edmi__max(xh, edmi__max(edmi__abs(p1[a][i]), edmi__abs(bd->p[i])));
+        }
+        e += t / m2;
+        sum += mag / m2;
+        err += EDMI_R(8.0) * EDMI_EPS * mag / m2 + EDMI__DW_TINY * (EDMI__ONE + EDMI__ONE / m2);
+        s1 += edmi__dot(p1[a], p1[a]) / m2; /* a coupled M's K is near this (a magnitude) */
+        if (sys->has_field) { /* V = -(M 1)_a g . q_a */
+            edmi_real m = edmi__mass_row(sys, a), dq[3], fv;
+            for (i = 0, mag = EDMI__ZERO; i < 3; i++) {
+                dq[i] = q1[a][i] - bd->q[i];
+                mag += edmi__abs(sys->g[i]) * edmi__abs(dq[i]);
+            }
+            fv = m * edmi__dot(sys->g, dq);
+            e -= fv;
+            sum += m * mag;
+            err += EDMI_R(8.0) * EDMI_EPS * m * mag + EDMI__DW_TINY * (EDMI__ONE + m);
+            so += m * gn * (edmi__norm(bd->q) + edmi__norm(q1[a]));
+            s1 += m * gn * edmi__norm(q1[a]);
+            n++;
+        }
+        n++;
+    }
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        const edmi_link_ws *w = &work->lw[j];
+        edmi_real r1[3], d1, v1, m1, dv, ds, e1;
+        edmi_pot_parts pp;
+        edmi_status st;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        if (edmi__is_linear(&lk->pot))
+            for (i = 0; i < 3; i++)
+                xh = edmi__max(xh, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
+        if (lk->pot.kind == EDMI_POT_USER) {
+            st = edmi__user_dv(sys, w, lk, q1, &dv, &e1, &ds, &m1);
+            if (st != EDMI_OK)
+                return st;
+        } else {
+            d1 = w->have1 ? w->d1 : edmi__norm(r1);
+            v1 = w->v1;
+            m1 = w->m1;
+            if (!w->have1) {
+                st = edmi__pot_parts(&lk->pot, d1, &pp);
+                if (st != EDMI_OK)
+                    return st;
+                v1 = pp.v[0];
+                m1 = edmi__pot_mag(&pp, d1);
+            }
+            dv = v1 - w->v0;
+            e1 = EDMI_R(64.0) * EDMI_EPS * (w->m0 + m1) +
+                 edmi__pot_tiny(&lk->pot, w->d0, w->d0 * w->d0, w->m0) +
+                 edmi__pot_tiny(&lk->pot, d1, d1 * d1, m1);
+            ds = (d1 - w->d0) * (d1 + w->d0);
+        }
+        s1 += m1;
+        if (!edmi__is_linear(&lk->pot))
+            so += w->m0 + m1;
+        if (edmi__link_still(sys, w, lk, q1))
+            continue; /* exactly 0 */
+        e += dv;
+        sum += edmi__abs(dv);
+        err += e1;
+        sch += EDMI__HALF * w->beta * ds - dv;
+        n++;
+    }
+    e -= res->work_ext + res->work_anchor;
+    sum += edmi__abs(res->work_ext) + edmi__abs(res->work_anchor) + edmi__abs(e);
+    /* the sums above are of non-negative terms: relative error below n eps, covered twice */
+    pl->m = (err + (edmi_real)(n + 2) * EDMI_EPS * sum) *
+                (EDMI__ONE + (edmi_real)(2 * n + 4) * EDMI_EPS) +
+            EDMI__DW_TINY;
+    pl->e = e;
+    pl->scheme = sch;
+    pl->s1 = s1;
+    pl->s_other = so + edmi__abs(res->work_ext) + edmi__abs(res->work_anchor);
+    pl->x_hom = xh;
+    if (!edmi__finite(pl->m) || !edmi__finite(e))
+        pl->ok = 0;
+    return edmi__finite(s1) && edmi__finite(pl->s_other) ? EDMI_OK : EDMI_ERR_RANGE;
+}
+
+/* t - e - m rounded down (a lower bound on the exact value): the tank after a step whose
+ * excess over the work is at most e + m. Its two roundings err by at most 1.01 eps and the
+ * last subtraction by 1.5 eps of A = |t| + |e| + |m|: 4 eps A covers them. */
+static edmi_real edmi__tank_after(edmi_real t, edmi_real e, edmi_real m)
+{
+    edmi_real d = (t - e) - m;
+    return d - (EDMI_R(4.0) * EDMI_EPS * (edmi__abs(t) + edmi__abs(e) + edmi__abs(m)) +
+                EDMI__REAL_MIN);
+}
+
+/* The default capacity of the energy tank (edmi_params.tank_cap), in units of eps times the
+ * magnitude S of H's terms: 64, i.e. 7.6e-6 S in float and 1.4e-14 S in double. Newton's
+ * solution rounded to the grid moves H by ~0.1-1 eps S either way each step; the tank holds
+ * that noise as a random walk between 0 and its capacity, and the guard acts (and removes
+ * energy) only when it would run dry, on average ~sigma^2 / (2 cap) per step. Replaying
+ * measured guard-off noise through a tank (10^5-10^6 float steps of the paper's spring and of
+ * circular LJ and gravity orbits), a capacity of 16 still removed up to 4x LG's own drift on
+ * the spring; 64 removes no more than it, acting on 0.1-0.5 % of steps (README). */
+#define EDMI__TANK_CAP EDMI_R(64.0)
+
+/* Energies below this are scaled up before the double-word evaluation: there its error bound's
+ * underflow allowance (EDMI__DW_TINY times a potential's coefficients) would exceed eps^2 of
+ * them. 2^(3p) above the smallest normal, p the precision's bits: 2^-54 in float, 2^-863 in
+ * double. */
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+#define EDMI__SCALE_BELOW EDMI_R(0x1p-863)
+#define EDMI__SCALE_MAX_J 1022 /* the largest power of two */
+#else
+#define EDMI__SCALE_BELOW EDMI_R(0x1p-54)
+#define EDMI__SCALE_MAX_J 126
+#endif
+
+/* The power-of-two scale of a step's double-word evaluation: 1 (almost always) unless every
+ * term is near the bottom of the range, the terms homogeneous of degree two (kinetic
+ * energies, zero-rest-length springs) formed from momenta and link vectors of at most x,
+ * the others (and the works and the tank) of magnitude s_other, x^2 and s_other below
+ * EDMI__SCALE_BELOW. Then 2^j, the largest with 2^j x <= 1/2 and 2^2j s_other <= 1/16 (at
+ * most 2^EDMI__SCALE_MAX_J): the homogeneous terms are evaluated from momenta and vectors
+ * scaled by 2^j, the others multiplied by 2^2j, both exact, so that their products do not
+ * underflow: a body settling onto its anchor (energies of 1e-300 and below) is certified as
+ * one with energies of 1. */
+static void edmi__set_scale(edmi__balance *bal, edmi_real x, edmi_real s_other)
+{
+    int j = 0;
+    bal->scale = EDMI__ONE;
+    if (!(x * x < EDMI__SCALE_BELOW && s_other < EDMI__SCALE_BELOW))
+        return;
+    for (; j + 16 <= EDMI__SCALE_MAX_J && x < EDMI_R(0x1p-18) && s_other < EDMI_R(0x1p-38);
+         j += 16) {
+        x *= EDMI_R(65536.0);
+        s_other *= EDMI_R(65536.0) * EDMI_R(65536.0);
+        bal->scale *= EDMI_R(65536.0);
+    }
+    for (; j < EDMI__SCALE_MAX_J && x < EDMI_R(0.25) && s_other < EDMI_R(0.015625); j++) {
+        x *= EDMI_R(2.0);
+        s_other *= EDMI_R(4.0);
+        bal->scale *= EDMI_R(2.0);
+    }
+}
+
+/* x scale^2 (exact barring overflow) and x / scale^2 (rounded where the quotient is
+ * subnormal), for the balance's scale. */
+static edmi_real edmi__up2(const edmi__balance *bal, edmi_real x)
+{
+    return x * bal->scale * bal->scale;
+}
+
+static edmi_real edmi__down2(const edmi__balance *bal, edmi_real x)
+{
+    return x / bal->scale / bal->scale;
+}
+
+/* x times a power of two (exact barring overflow). */
+static edmi__dw edmi__dw_pow2(edmi__dw x, edmi_real k)
+{
+    x.hi *= k;
+    x.lo *= k;
+    return x;
+}
+
+static edmi__dw edmi__dw_up2(const edmi__balance *bal, edmi__dw x)
+{
+    return edmi__dw_pow2(edmi__dw_pow2(x, bal->scale), bal->scale);
+}
+
+/* One link's terms of the balance (stored in its workspace: edmi__delta_v). A link whose ends
+ * did not move is skipped: its change is exactly 0 (a body at rest certifies exactly). */
+static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
+                                      const edmi_link *lk, const edmi_real (*q1)[3],
+                                      const edmi__balance *bal)
+{
+    edmi__dw r0[3], r1[3], s0, s1, d0, d1, v0, v1, dv, ds, sc;
+    edmi_real e0, e1;
+    const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
+    int i, lin = edmi__is_linear(&lk->pot);
+    w->bal_on = !edmi__link_still(sys, w, lk, q1);
+    if (!w->bal_on)
+        return EDMI_OK;
+    if (lk->pot.kind == EDMI_POT_USER) {
+        edmi_real ub, err, dsr, mag;
+        edmi_status st = edmi__user_dv(sys, w, lk, q1, &ub, &err, &dsr, &mag);
+        if (st != EDMI_OK)
+            return st;
+        dv = edmi__dw_of(edmi__up2(bal, ub));
+        sc = edmi__dw_sub(edmi__dw_of(edmi__up2(bal, EDMI__HALF * w->beta * dsr)), dv);
+        e0 = EDMI__ZERO;
+        e1 = edmi__up2(bal, err);
+        v0 = edmi__dw_of(edmi__up2(bal, w->m0));
+        v1 = edmi__dw_of(edmi__up2(bal, mag));
+        s0 = s1 = edmi__dw_of(EDMI__ZERO);
+    } else {
+        edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
+        edmi__dw_diff3(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        if (lin && bal->scale != EDMI__ONE) /* V = a/2 |r|^2: from the scaled vectors */
+            for (i = 0; i < 3; i++) {
+                r0[i] = edmi__dw_pow2(r0[i], bal->scale);
+                r1[i] = edmi__dw_pow2(r1[i], bal->scale);
+            }
+        s0 = edmi__dw_sq3(r0);
+        s1 = edmi__dw_sq3(r1);
+        d0 = lin ? s0 : edmi__dw_sqrt(s0); /* the linear spring needs no length */
+        d1 = lin ? s1 : edmi__dw_sqrt(s1);
+        edmi__pot_dw(&lk->pot, s0, d0, &v0, &e0);
+        edmi__pot_dw(&lk->pot, s1, d1, &v1, &e1);
+        dv = edmi__dw_sub(v1, v0);
+        /* the work of f = dt beta r_m over the step, per dt: beta (d_n+1^2 - d_n^2) / 2 */
+        ds = edmi__dw_sub(s1, s0);
+        if (!lin && bal->scale != EDMI__ONE) {
+            dv = edmi__dw_up2(bal, dv);
+            ds = edmi__dw_up2(bal, ds);
+            v0 = edmi__dw_up2(bal, v0);
+            v1 = edmi__dw_up2(bal, v1);
+            s0 = edmi__dw_up2(bal, s0);
+            s1 = edmi__dw_up2(bal, s1);
+            e0 = edmi__up2(bal, e0);
+            e1 = edmi__up2(bal, e1);
+        }
+        sc = edmi__dw_sub(edmi__dw_mul_r(ds, EDMI__HALF * w->beta), dv);
+    }
     w->bal_dv[0] = dv.hi;
     w->bal_dv[1] = dv.lo;
     w->bal_sc[0] = sc.hi;
@@ -1938,7 +2329,7 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         const edmi_link *lk = &sys->link[j];
         edmi_link_ws *w = &work->lw[j];
         if (moved < 0 || lk->a == moved || lk->b == moved) {
-            edmi_status st = edmi__delta_v_link(sys, w, lk, q1);
+            edmi_status st = edmi__delta_v_link(sys, w, lk, q1, bal);
             if (st != EDMI_OK)
                 return st;
         }
@@ -1949,38 +2340,30 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         bal->size_v += w->bal_size;
         bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_pair(w->bal_sc));
     }
-    if (sys->has_field) /* V = -sum m g . q */
+    if (sys->has_field) /* V = -sum (M 1)_a g . q_a, each mass entry exact */
         for (a = 0; a < sys->n_bodies; a++) {
             edmi__dw wg;
-            edmi_real mag;
+            edmi_real mag, x;
+            int b;
             if (edmi__same3(q1[a], sys->body[a].q))
                 continue;
-            wg = edmi__dw_work(sys->g, q1[a], sys->body[a].q);
-            bal->dv = edmi__dw_sub(bal->dv, edmi__dw_mul_r(wg, sys->body[a].m));
-            mag = sys->body[a].m * (edmi__abs(wg.hi) + edmi__norm(sys->g) *
-                                                           (edmi__norm(q1[a]) +
-                                                            edmi__norm(sys->body[a].q)));
-            bal->err_v += EDMI__DW_ERR * mag + EDMI__DW_TINY * (EDMI_R(4.0) * sys->body[a].m +
-                                                                EDMI__ONE);
-            bal->size_v += mag;
+            wg = edmi__dw_work(sys->g, q1[a], sys->body[a].q, bal->scale);
+            x = edmi__up2(bal, edmi__norm(sys->g) * (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q)));
+            for (b = a - EDMI_MAX_MASS_GAP; b <= a + EDMI_MAX_MASS_GAP; b++) {
+                edmi_real m;
+                if (b < 0 || b >= sys->n_bodies)
+                    continue;
 #if EDMI_MAX_MASS_GAP > 0
-            { /* a coupled M pulls body a with (M 1)_a g: the off-diagonal masses, each exact */
-                int b;
-                for (b = a - EDMI_MAX_MASS_GAP; b <= a + EDMI_MAX_MASS_GAP; b++) {
-                    edmi_real m;
-                    if (b < 0 || b >= sys->n_bodies || b == a)
-                        continue;
-                    m = edmi__mass_ab(sys, a, b);
-                    bal->dv = edmi__dw_sub(bal->dv, edmi__dw_mul_r(wg, m));
-                    mag = edmi__abs(m) * (edmi__abs(wg.hi) + edmi__norm(sys->g) *
-                                                              (edmi__norm(q1[a]) +
-                                                               edmi__norm(sys->body[a].q)));
-                    bal->err_v += EDMI__DW_ERR * mag + EDMI__DW_TINY * EDMI_R(4.0) *
-                                                       (edmi__abs(m) + EDMI__ONE);
-                    bal->size_v += mag;
-                }
-            }
+                m = b == a ? sys->body[a].m : edmi__mass_ab(sys, a, b);
+#else
+                m = sys->body[a].m;
 #endif
+                bal->dv = edmi__dw_sub(bal->dv, edmi__dw_mul_r(wg, m));
+                mag = edmi__abs(m) * (edmi__abs(wg.hi) + x);
+                bal->err_v += EDMI__DW_ERR * mag +
+                              EDMI__DW_TINY * EDMI_R(4.0) * (edmi__abs(m) + EDMI__ONE);
+                bal->size_v += mag;
+            }
         }
     return EDMI_OK;
 }
@@ -2033,24 +2416,25 @@ static edmi__dw edmi__mass_residual_dw(const edmi_system *sys, int a, int c, edm
     return r;
 }
 
-/* dk = K(p1) - K(p_n) = 1/2 d . M^-1 s (d = p1 - p_n, s = p1 + p_n, both exact double-words)
- * for a coupled M. x + y ~ M^-1 s, held as two working-precision vectors: x from M's band
- * Cholesky factor (in work->mat, free once Newton is done), y = M^-1 (s - M x) its
- * correction; dk = 1/2 d . (x + y) in double-word. What x misses is
+/* dk = K(p1) - K(p_n) = 1/2 d . M^-1 s (d = p1 - p_n, s = p1 + p_n, both exact double-words,
+ * times bal->scale) for a coupled M. x + y ~ M^-1 s, held as two working-precision vectors:
+ * x from M's band Cholesky factor (in work->mat, free once Newton is done), y =
+ * M^-1 (s - M x) its correction; dk = 1/2 d . (x + y) in double-word. What x misses is
  * bounded through the residual rho = s - M x, evaluated in double-word: |1/2 d . M^-1 rho|
- * <= 1/2 |d| |rho| / lambda_min(M), with lambda_min(M) bounded below by Gershgorin's discs,
- * min over rows of m_aa - sum |m_ab|. An M that is not diagonally dominant has no such bound
- * here: err_k is then infinite and the guard cannot certify (EDMI_ERR_PASSIVITY). */
+ * <= 1/2 |d| |rho| / lambda_min(M), with lambda_min(M) bounded below by a shifted Cholesky
+ * factorisation (edmi__mass_lambda_min): any M that bound proves definite (the validation
+ * refuses the others). */
 static void edmi__delta_k_coupled(const edmi_system *sys, edmi_workspace *work,
                                   const edmi_real (*p1)[3], edmi__balance *bal)
 {
-    int n = sys->n_bodies, g = EDMI_MAX_MASS_GAP, a, b, c, pass;
-    edmi_real *f = work->mat, *x = work->rhs, *y = work->dp[0];
-    edmi_real lam = EDMI_REAL_MAX, nd = EDMI__ZERO, nr = EDMI__ZERO, mag_d = EDMI__ZERO;
+    int n = sys->n_bodies, g = EDMI_MAX_MASS_GAP, a, c, pass;
+    edmi_real *f = work->mat, *x = work->rhs, *y = work->dp[0], k = bal->scale;
+    edmi_real lam = edmi__mass_lambda_min(n, sys->body, edmi__off_sys, sys);
+    edmi_real nd = EDMI__ZERO, nr = EDMI__ZERO, mag_d = EDMI__ZERO;
     edmi_real nfac = EDMI__ONE + EDMI_R(8.0) * (edmi_real)(3 * n + 2 * g + 2) * EDMI_EPS;
-    /* the factor, row by row, and Gershgorin's bound */
+    /* the factor, row by row */
     for (a = 0; a < n; a++) {
-        edmi_real *la = f + a * (g + 1), d = sys->body[a].m, off = EDMI__ZERO, lo_a;
+        edmi_real *la = f + a * (g + 1), d = sys->body[a].m;
         int lo = a - g > 0 ? a - g : 0, j, i;
         for (j = lo; j < a; j++) {
             const edmi_real *lj = f + j * (g + 1);
@@ -2061,24 +2445,19 @@ static void edmi__delta_k_coupled(const edmi_system *sys, edmi_workspace *work,
             d -= la[j - a + g] * la[j - a + g];
         }
         la[g] = EDMI_SQRT(d > EDMI__ZERO ? d : EDMI__ONE); /* validated positive definite */
-        for (b = a - g; b <= a + g; b++)
-            if (b >= 0 && b < n && b != a)
-                off += edmi__abs(edmi__mass_ab(sys, a, b));
-        lo_a = (sys->body[a].m - off * nfac) * (EDMI__ONE - EDMI_R(2.0) * EDMI_EPS);
-        lam = lo_a < lam ? lo_a : lam;
     }
     for (a = 0; a < n; a++)
         for (c = 0; c < 3; c++)
-            y[3 * a + c] = p1[a][c] + sys->body[a].p[c];
+            y[3 * a + c] = (p1[a][c] + sys->body[a].p[c]) * k;
     edmi__mass_solve(f, n, g, y, x);
     for (pass = 0; pass < 2; pass++) { /* the residual of x, then of x + y */
         nr = EDMI__ZERO;
         for (a = 0; a < n; a++)
             for (c = 0; c < 3; c++) {
                 edmi_real mag;
-                edmi__dw r = edmi__mass_residual_dw(sys, a, c,
-                                                    edmi__two_sum(p1[a][c], sys->body[a].p[c]),
-                                                    x, pass ? y : 0, &mag);
+                edmi__dw r = edmi__mass_residual_dw(
+                    sys, a, c, edmi__dw_pow2(edmi__two_sum(p1[a][c], sys->body[a].p[c]), k), x,
+                    pass ? y : 0, &mag);
                 if (pass == 0)
                     y[3 * a + c] = r.hi;
                 nr += edmi__abs(r.hi) + edmi__abs(r.lo) + EDMI__DW_ERR * mag + EDMI__DW_TINY;
@@ -2090,13 +2469,13 @@ static void edmi__delta_k_coupled(const edmi_system *sys, edmi_workspace *work,
     bal->size_k = EDMI__ZERO;
     for (a = 0; a < n; a++)
         for (c = 0; c < 3; c++) {
-            edmi__dw d = edmi__two_sum(p1[a][c], -sys->body[a].p[c]);
+            edmi__dw d = edmi__dw_pow2(edmi__two_sum(p1[a][c], -sys->body[a].p[c]), k);
             edmi_real t = edmi__abs(d.hi * x[3 * a + c]) + edmi__abs(d.hi * y[3 * a + c]);
             bal->dk = edmi__dw_add(bal->dk, edmi__dw_mul_r(d, EDMI__HALF * x[3 * a + c]));
             bal->dk = edmi__dw_add(bal->dk, edmi__dw_mul_r(d, EDMI__HALF * y[3 * a + c]));
             mag_d += t;
             nd += edmi__abs(d.hi) + edmi__abs(d.lo);
-            bal->size_k += edmi__abs((p1[a][c] + sys->body[a].p[c]) * x[3 * a + c]);
+            bal->size_k += edmi__abs((p1[a][c] + sys->body[a].p[c]) * k * x[3 * a + c]);
         }
     /* 1-norms bound the 2-norms; nfac covers their own rounding */
     bal->err_k = EDMI__DW_ERR * mag_d + EDMI__DW_TINY * (edmi_real)(3 * n + 1);
@@ -2126,10 +2505,16 @@ static void edmi__delta_k(const edmi_system *sys, edmi_workspace *work, const ed
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi__dw s1, s0, m2;
+        edmi_real x1[3], x0[3];
+        int i;
         if (edmi__same3(p1[a], bd->p))
             continue;
-        s1 = edmi__dw_dot(p1[a], p1[a]);
-        s0 = edmi__dw_dot(bd->p, bd->p);
+        for (i = 0; i < 3; i++) { /* K = |p|^2 / 2m from the scaled momenta (exact) */
+            x1[i] = p1[a][i] * bal->scale;
+            x0[i] = bd->p[i] * bal->scale;
+        }
+        s1 = edmi__dw_dot(x1, x1);
+        s0 = edmi__dw_dot(x0, x0);
         m2 = edmi__dw_of(EDMI_R(2.0) * bd->m);
         bal->dk = edmi__dw_add(bal->dk, edmi__dw_div(edmi__dw_sub(s1, s0), m2));
         bal->size_k += (s1.hi + s0.hi) / m2.hi;
@@ -2588,7 +2973,7 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
             for (i = 0; i < 3; i++)
                 work->dp[a][i] = work->p1[a][i] - edmi__mass_row(sys, a) * v[i];
         if (!edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys,
-                            (const edmi_real (*)[3])work->dp, &krel))
+                            (const edmi_real (*)[3])work->dp, &krel, EDMI__ZERO, 0))
             return 0;
     }
 #endif
@@ -2602,12 +2987,14 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
 }
 
 /* The guard's state between its moves: the excess e of the stored state's H change over the
- * work, its certification margin, and where to aim. */
+ * work, its certification margin, the tank it may draw on, and where to aim. All in the
+ * balance's (scaled) units. */
 typedef struct edmi__aim {
     edmi_real e, margin; /* H change - work <= e + margin, exactly */
-    edmi_real goal, hi;  /* wanted K change (to work - diss), and the largest one sought */
-    edmi_real diss, tol; /* the law's dissipation; how close to goal is close enough */
-    edmi_real strict;    /* how far below the work the search keeps H's change (>= 0) */
+    edmi_real tank;      /* T_n: the step is certified when e + margin <= tank */
+    edmi_real goal, hi;  /* the K change sought, and the largest one that settles the step */
+    edmi_real tol;       /* how close to goal is close enough (0: the search's own window) */
+    edmi_real strict;    /* how far below the tank the guard keeps the excess (tank_cap 0) */
 } edmi__aim;
 
 /* Re-evaluate K's change for the current work->p1, and the aim. 0 if beyond range. */
@@ -2617,18 +3004,24 @@ static int edmi__reaim(const edmi_system *sys, edmi_workspace *work, edmi__balan
     edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, bal);
     if (!edmi__excess(bal, &t->e, &t->margin))
         return 0;
-    t->hi = -t->e - t->margin - t->strict;
-    t->goal = -t->diss - t->e;
-    if (t->goal > t->hi)
-        t->goal = t->hi;
+    t->hi = t->tank - t->e - t->margin - t->strict;
+    t->goal = t->hi - t->strict; /* about the least change that settles the step */
     return 1;
 }
 
-static int edmi__certified(const edmi__aim *t) { return t->e + t->margin <= EDMI__ZERO; }
-
-static int edmi__on_target(const edmi__aim *t)
+/* Certified: the exact excess, at most e + margin, is <= T_n. The sign test is exact (a
+ * rounded sum has its exact sum's sign), so an unchanged state (every term exactly 0)
+ * certifies with an empty tank; else T_n - e - margin rounded down must be >= 0. */
+static int edmi__certified(const edmi__aim *t)
 {
-    return t->e + t->margin <= -t->strict && edmi__abs(t->goal) <= t->tol;
+    return t->e + t->margin <= EDMI__ZERO ||
+           edmi__tank_after(t->tank, t->e, t->margin) >= EDMI__ZERO;
+}
+
+/* Settled: certified, and with tank_cap = 0 at least strict below the work. */
+static int edmi__settled(const edmi__aim *t)
+{
+    return t->strict > EDMI__ZERO ? t->e + t->margin <= -t->strict : edmi__certified(t);
 }
 
 /* One energy-aware rounding, the coarsest component within k3 units; 0 if nothing in range. */
@@ -2695,10 +3088,10 @@ static void edmi__port_work(const edmi_system *sys, const edmi_workspace *work,
     int a;
     for (a = 0; a < sys->n_forced; a++) {
         int b = sys->forced[a];
-        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], work->q1[b], sys->body[b].q));
+        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], work->q1[b], sys->body[b].q, EDMI__ONE));
     }
     res->work_ext = edmi__dw_real(wx);
-    bal->w = edmi__two_sum(res->work_ext, res->work_anchor);
+    bal->w = edmi__dw_up2(bal, edmi__two_sum(res->work_ext, res->work_anchor));
 }
 
 /* One energy-aware rounding, the coarsest momentum component within k3 units. Returns 0 if
@@ -2709,7 +3102,7 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
     edmi__comp c[3];
     edmi__qmoves qm;
     int k[3], n = edmi__pick_comps(sys, work, c), o[3], qv = 0, j;
-    edmi_real l2 = EDMI__ZERO, tol;
+    edmi_real l2 = EDMI__ZERO, tol, goal;
     if (n == 0)
         return 0;
     if (work->n_pair == sys->n_links) /* no anchors: L is conserved too */
@@ -2717,7 +3110,12 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
             l2 = edmi__max(l2, edmi__dot(work->q1[c[j].a], work->q1[c[j].a]));
     edmi__pick_qmoves(sys, work, c[0].a, &qm);
     tol = edmi__max(t->tol, EDMI__ROUND_WINDOW * edmi__abs(EDMI__PK(&c[0]) * c[0].u / c[0].m2));
-    if (!edmi__round_search(c, n, &qm, k3, t->goal, t->hi, tol, l2, k, &qv))
+    /* with a coupled M the search's model of K is exact to first order only (the cross terms
+     * of M^-1 between the moved components are left out): aim two units of the coarsest
+     * component below the edge, or its misses need a drag (measured: the hanging cable's
+     * first steps from rest, where the tank is empty) */
+    goal = t->goal - (EDMI__COUPLED(sys) ? edmi__abs(edmi__comp_dk(&c[0], 2)) : EDMI__ZERO);
+    if (!edmi__round_search(c, n, &qm, k3, goal, t->hi, tol, l2, k, &qv))
         return 0;
     if ((k[0] | k[1] | k[2]) != 0) {
         edmi__round_apply(work, c, n, k);
@@ -2735,23 +3133,12 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
     return 1;
 }
 
-/* Slack of the guard's target per step, relative to the magnitude of H's terms: a stored
- * state whose H change is within this of the target, and certified, is left as it is. A
- * physical budget, not a precision's: 2^-43 = 1.1e-13 of H per step is 1e-4 of H over 10^9
- * steps. Double's grid (~1e-16 H) lies well inside it, so in double the guard acts only when
- * a step would exceed the work; float's (~1e-7 H) lies far outside, so in float every step
- * is rounded towards the target. */
-#define EDMI__GUARD_SLACK (EDMI_R(1.0) / EDMI_R(8796093022208.0))
-
-/* How far below the work the guard seeks to keep H's change, relative to the size of the
- * changed terms (balance size_v + size_k): 2^-58. An H change of 0 to -1e-18 of them
- * satisfies the guarantee, but a plain evaluation of H in a 64-bit significand (x87 long
- * double), whose error is a few 2^-64 of them, cannot tell its sign and sees the energy rise
- * on some steps. The search looks below this margin first; where nothing lies there (a body
- * at rest in its minimum), the certificate H_n+1 - H_n <= work is all that is asked. Below
- * double's grid (~2^-52), so in double it moves a state by a unit in the last place on the
- * steps whose dissipation is that small; in float it only sets which of the grid's
- * candidates is taken. */
+/* With tank_cap = 0 (no tank), how far below the work the guard keeps H's change, relative to
+ * the size of the changed terms (balance size_v + size_k): 2^-58. An H change of 0 to -1e-18
+ * of them satisfies the per-step guarantee, but a plain evaluation of H in a 64-bit
+ * significand (x87 long double), whose error is a few 2^-64 of them, cannot tell its sign and
+ * sees the energy rise on some steps. The search looks below this margin first; where nothing
+ * lies there (a body at rest in its minimum), the certificate is all that is asked. */
 #define EDMI__GUARD_STRICT (EDMI_R(1.0) / EDMI_R(288230376151711744.0))
 
 /* After the search, if its working-precision estimate left the stored state a hair above the
@@ -2759,83 +3146,117 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
  * (the last times the coarsest). */
 #define EDMI__GUARD_NUDGES 4
 
-/* The passivity guard on Newton's iterate work->p1 (bal: dv, w filled; diss: the dissipation
- * the scheme's law asks for, >= 0). On success the stored state satisfies
- * H_n+1 - H_n <= work exactly, and H_n+1 - H_n is as close to work - diss as the grid allows. */
+/* The last move: every momentum set to the frame's (edmi__frame_velocity), Newton's positions
+ * kept; K relative to the frame becomes 0. */
+static void edmi__guard_stop(const edmi_system *sys, edmi_workspace *work)
+{
+    edmi_real v[3];
+    int a, i;
+    edmi__frame_velocity(sys, work, (const edmi_real (*)[3])work->p1, v);
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi_real m = edmi__mass_row(sys, a);
+        for (i = 0; i < 3; i++)
+            work->p1[a][i] = m * v[i];
+    }
+}
+
+/* The moves of the guard where the tank cannot cover Newton's iterate (t not settled): the
+ * bulk by an impulse along a link that keeps J, the rest by energy-aware rounding, a drag
+ * where neither can. Leaves t describing the stored state. 0 on success (certified or not),
+ * -1 if a moved position left the potentials' domain or the balance its range. */
+static int edmi__guard_moves(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
+                             edmi__aim *t, edmi_step_result *res)
+{
+    edmi__comp c[3];
+    int n = edmi__pick_comps(sys, work, c), r, fresh;
+    /* the bulk by an impulse that keeps J, when more than a couple of units are needed */
+    if ((n == 0 || edmi__abs(t->goal) > EDMI__HALF * edmi__abs(edmi__comp_dk(&c[0], 4))) &&
+        edmi__guard_impulse(sys, work, t->goal)) {
+        res->guard_action |= EDMI_GUARD_IMPULSE;
+        if (!edmi__reaim(sys, work, bal, t))
+            return -1;
+    }
+    r = edmi__settled(t) ? 1 : edmi__guard_round(sys, work, bal, t, EDMI__ROUND_K0, res);
+    if (r == 0)
+        r = edmi__guard_round(sys, work, bal, t, EDMI__ROUND_WIDE_K0, res);
+    /* with a coupled M the search's first-order model can miss: drag too, if the rounded
+     * state, re-evaluated (t still describes the state before the rounding), is not
+     * certified; t then describes the stored state unless the drag moves it */
+    fresh = r > 0 && EDMI__COUPLED(sys);
+    if (fresh && !edmi__reaim(sys, work, bal, t))
+        return -1;
+    if ((r == 0 || EDMI__COUPLED(sys)) && !edmi__certified(t) &&
+        edmi__guard_drag(sys, work, t->goal)) {
+        res->guard_action |= EDMI_GUARD_DRAG;
+        if (!edmi__reaim(sys, work, bal, t))
+            return -1;
+        r = edmi__guard_round(sys, work, bal, t, EDMI__ROUND_K0, res);
+        fresh = 0;
+    }
+    if (r < 0 || (!fresh && !edmi__reaim(sys, work, bal, t)))
+        return -1;
+    /* last resort, e.g. a position's rounding larger than the kinetic energy left: any
+     * candidate below the certificate, however far from the target */
+    if (!edmi__certified(t) && (edmi__guard_round(sys, work, bal, t, -EDMI__ROUND_WIDE_K0, res) < 0 ||
+                                !edmi__reaim(sys, work, bal, t)))
+        return -1;
+    return 0;
+}
+
+/* The passivity guard on Newton's iterate work->p1 (bal: dv and w filled, in its scaled units;
+ * cap: the tank's capacity after the step). Certifies H_n+1 - H_n - work <= T_n exactly,
+ * moving the state only where the tank cannot cover the step, and sets res->tank to T_n+1 =
+ * min(cap, T_n - (H_n+1 - H_n - work)), rounded down. */
 static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
-                               edmi_real diss, edmi_step_result *res)
+                               edmi_real cap, edmi_step_result *res)
 {
     edmi__comp c[3];
     edmi__dw h_newton;
     edmi__aim t;
-    edmi_real terms;
-    int n, k[3], i, r, fresh;
-    t.diss = diss;
-    t.strict = EDMI__ZERO;
+    edmi_real after;
+    int n, k[3], i;
+    t.tank = edmi__up2(bal, sys->tank);
+    t.strict = t.tol = EDMI__ZERO;
     if (!edmi__reaim(sys, work, bal, &t))
         return EDMI_ERR_PASSIVITY;
-    /* err_v + err_k = EDMI__DW_ERR times the magnitude of H's terms (plus a tiny) */
-    terms = (bal->err_v + bal->err_k) / EDMI__DW_ERR;
-    t.tol = edmi__max(diss / EDMI_R(8.0), EDMI__GUARD_SLACK * terms);
-    t.strict = EDMI__GUARD_STRICT * (bal->size_v + bal->size_k);
-    if (!edmi__finite(t.strict))
-        t.strict = EDMI__ZERO;
-    t.hi -= t.strict;
-    if (t.goal > t.hi)
-        t.goal = t.hi;
+    if (!(sys->params.tank_cap > EDMI__ZERO)) {
+        t.strict = EDMI__GUARD_STRICT * (bal->size_v + bal->size_k);
+        if (!edmi__finite(t.strict))
+            t.strict = EDMI__ZERO;
+        t.hi -= t.strict;
+    }
     h_newton = edmi__dw_add(bal->dv, bal->dk);
-    if (!edmi__on_target(&t)) {
-        /* the bulk by an impulse that keeps J, when more than a couple of units are needed */
-        n = edmi__pick_comps(sys, work, c);
-        if ((n == 0 || edmi__abs(t.goal) > EDMI__HALF * edmi__abs(edmi__comp_dk(&c[0], 4))) &&
-            edmi__guard_impulse(sys, work, t.goal)) {
-            res->guard_action |= EDMI_GUARD_IMPULSE;
+    if (!edmi__settled(&t)) {
+        /* at the bottom of the range (scaled) the search's working-precision model of the
+         * candidates' energies underflows: only the last move applies */
+        if (bal->scale == EDMI__ONE && edmi__guard_moves(sys, work, bal, &t, res) < 0)
+            return EDMI_ERR_PASSIVITY;
+        for (i = 0; bal->scale == EDMI__ONE && i < EDMI__GUARD_NUDGES && !edmi__settled(&t);
+             i++) {
+            n = edmi__pick_comps(sys, work, c);
+            if (n == 0)
+                break;
+            k[0] = k[1] = k[2] = 0;
+            k[i < 2 ? n - 1 : 0] = EDMI__PK(&c[i < 2 ? n - 1 : 0]) > EDMI__ZERO ? -1 : 1;
+            edmi__round_apply(work, c, n, k);
+            res->guard_action |= EDMI_GUARD_ROUND;
             if (!edmi__reaim(sys, work, bal, &t))
                 return EDMI_ERR_PASSIVITY;
         }
-        r = edmi__on_target(&t) ? 1 : edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
-        if (r == 0)
-            r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_WIDE_K0, res);
-        /* with a coupled M the search's first-order model can miss: drag too, if the rounded
-         * state, re-evaluated (t still describes the state before the rounding), is not
-         * certified; t then describes the stored state unless the drag moves it */
-        fresh = r > 0 && EDMI__COUPLED(sys);
-        if (fresh && !edmi__reaim(sys, work, bal, &t))
-            return EDMI_ERR_PASSIVITY;
-        if ((r == 0 || EDMI__COUPLED(sys)) && !edmi__certified(&t) &&
-            edmi__guard_drag(sys, work, t.goal)) {
+        if (!edmi__certified(&t)) {
+            edmi__guard_stop(sys, work);
             res->guard_action |= EDMI_GUARD_DRAG;
             if (!edmi__reaim(sys, work, bal, &t))
                 return EDMI_ERR_PASSIVITY;
-            r = edmi__guard_round(sys, work, bal, &t, EDMI__ROUND_K0, res);
-            fresh = 0;
         }
-        if (r < 0)
-            return EDMI_ERR_PASSIVITY;
-        if (!fresh && !edmi__reaim(sys, work, bal, &t))
-            return EDMI_ERR_PASSIVITY;
-        /* last resort, e.g. a position's rounding larger than the kinetic energy left: any
-         * candidate below the certificate, however far from the target */
-        if (!edmi__certified(&t)) {
-            if (edmi__guard_round(sys, work, bal, &t, -EDMI__ROUND_WIDE_K0, res) < 0 ||
-                !edmi__reaim(sys, work, bal, &t))
-                return EDMI_ERR_PASSIVITY;
-        }
-    }
-    for (i = 0; i < EDMI__GUARD_NUDGES && !edmi__certified(&t); i++) {
-        n = edmi__pick_comps(sys, work, c);
-        if (n == 0)
-            break;
-        k[0] = k[1] = k[2] = 0;
-        k[i < 2 ? n - 1 : 0] = EDMI__PK(&c[i < 2 ? n - 1 : 0]) > EDMI__ZERO ? -1 : 1;
-        edmi__round_apply(work, c, n, k);
-        res->guard_action |= EDMI_GUARD_ROUND;
-        if (!edmi__reaim(sys, work, bal, &t))
-            return EDMI_ERR_PASSIVITY;
+        res->diss_guard =
+            edmi__down2(bal, edmi__dw_real(edmi__dw_sub(h_newton, edmi__dw_add(bal->dv, bal->dk))));
     }
     if (!edmi__certified(&t))
         return EDMI_ERR_PASSIVITY;
-    res->diss_guard = edmi__dw_real(edmi__dw_sub(h_newton, edmi__dw_add(bal->dv, bal->dk)));
+    after = edmi__down2(bal, edmi__tank_after(t.tank, t.e, t.margin));
+    /* a subnormal quotient may have been rounded up: drop it */
+    res->tank = after >= EDMI__REAL_MIN ? (after < cap ? after : cap) : EDMI__ZERO;
     return EDMI_OK;
 }
 
@@ -2868,7 +3289,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     int a, i, j;
     for (a = 0; a < sys->n_forced; a++) {
         int b = sys->forced[a];
-        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], q1[b], sys->body[b].q));
+        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], q1[b], sys->body[b].q, EDMI__ONE));
     }
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
@@ -2898,7 +3319,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     }
     for (i = 0; i < sys->n_moving; i++) {
         j = sys->moving[i];
-        wa = edmi__dw_sub(wa, edmi__dw_work(work->lw[j].f, work->lw[j].x1, sys->link[j].anchor));
+        wa = edmi__dw_sub(wa, edmi__dw_work(work->lw[j].f, work->lw[j].x1, sys->link[j].anchor, EDMI__ONE));
     }
     res->work_ext = edmi__dw_real(wx);
     res->work_anchor = edmi__dw_real(wa);
@@ -2909,102 +3330,36 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     return EDMI_OK;
 }
 
-/* The dissipation the scheme's energy law gives for the step: per link GE (dd^2/2)
- * (V_c'' - V_e''), PM (dd^4/48) (V_+'''' - V_-''''), PT (dd^4/24) (V_+'''' - V_-''''), with
- * dd = d_n+1 - d_n and the derivatives at mean-value points between d_n and d_n+1, here
- * taken at the mid-length (README, "What the paper gets wrong"); none for MP and LG. The
- * work identity (diss_scheme) holds the same quantity but carries the rounding of beta,
- * ~eps |beta| |d_n+1^2 - d_n^2|, ten times PM's own dissipation on the paper's spring in
- * float; the law has no cancellation, so it is the guard's target. */
-static edmi_real edmi__diss_law(const edmi_system *sys, const edmi_workspace *work)
-{
-    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
-    edmi_scheme s = sys->params.scheme;
-    edmi_real d = EDMI__ZERO;
-    int j;
-    if (s != EDMI_GE && s != EDMI_PM && s != EDMI_PT)
-        return EDMI__ZERO;
-    for (j = 0; j < sys->n_links; j++) {
-        const edmi_link *lk = &sys->link[j];
-        const edmi_link_ws *w = &work->lw[j];
-        edmi_real r1[3], dr[3], sr[3], d1, dd, x;
-        edmi_pot_parts pp;
-        int i;
-        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
-        d1 = edmi__norm(r1);
-        if (!(w->d0 + d1 > EDMI__ZERO))
-            continue;
-        for (i = 0; i < 3; i++) {
-            dr[i] = r1[i] - w->r0[i];
-            sr[i] = r1[i] + w->r0[i];
-        }
-        dd = edmi__dot(dr, sr) / (w->d0 + d1);
-        if (edmi__pot_parts(&lk->pot, EDMI__HALF * (w->d0 + d1), &pp) != EDMI_OK)
-            continue;
-        if (s == EDMI_GE)
-            x = EDMI__HALF * dd * dd * (pp.c[2] - pp.e[2]);
-        else
-            x = dd * dd * dd * dd / (s == EDMI_PM ? EDMI_R(48.0) : EDMI_R(24.0)) *
-                (pp.sp[4] - pp.sm[4]);
-        if (edmi__finite(x) && x > EDMI__ZERO)
-            d += x;
-    }
-    return d;
-}
-
-
-/* After Newton converged: work, forces, energy balance and (if on) the guard. */
-static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+/* The fallback state (params.fallback, after Newton failed; and the guard's stop at the
+ * bottom of the range): positions kept, momenta set to the frame's (edmi__guard_stop), or to
+ * 0 if rounding those would not certify. Passive by construction: K does not grow, V changes
+ * only where an anchor moved, and work_anchor is that change rounded upwards (the work a hand
+ * does moving its end of a frozen link); with the guard on it fills the tank by what it
+ * removes, up to the capacity. link_force is each link's force V'(d) r/d at the end of the
+ * step. */
+static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
                                 edmi_step_result *res)
 {
     edmi__balance bal;
-    edmi_real diss;
-    edmi_status st = edmi__step_work(sys, work, dt, res, &bal);
-    int guard = edmi__guard_on(&sys->params);
-    if (st == EDMI_OK && !(edmi__finite(res->work_ext) && edmi__finite(res->work_anchor) &&
-                           edmi__finite(res->diss_damping)))
-        st = EDMI_ERR_RANGE; /* a port's work F . dq or a damper's loss beyond the range */
-    if (st != EDMI_OK || (!guard && !sys->params.energy_balance))
-        return st;
-    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
-    if (st != EDMI_OK)
-        return st;
-    res->diss_scheme = edmi__dw_real(bal.scheme);
-    if (!edmi__finite(res->diss_scheme) || !edmi__finite(edmi__dw_real(bal.dv)))
-        return EDMI_ERR_RANGE; /* a link energy (|r|^2, V) beyond the range */
-    if (guard) {
-        diss = edmi__diss_law(sys, work) + edmi__max(res->diss_damping, EDMI__ZERO);
-        st = edmi__guard(sys, work, &bal, diss, res);
-        if (st != EDMI_OK)
-            return st;
-    } else {
-        edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
-    }
-    res->dh = edmi__dw_real(edmi__dw_add(bal.dv, bal.dk));
-    return edmi__finite(res->dh) ? EDMI_OK : EDMI_ERR_PASSIVITY;
-}
-
-/* The fallback state (params.fallback, after Newton failed): positions kept, momenta set to
- * the frame's (edmi__frame_velocity), or to 0 if rounding those would not certify. Passive
- * by construction: K does not grow, V changes only where an anchor moved, and work_anchor
- * is that change rounded upwards (the work a hand does moving its end of a frozen link).
- * link_force is each link's force V'(d) r/d at the end of the step. */
-static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
-                                  edmi_step_result *res)
-{
-    edmi__balance bal;
-    edmi_real v[3], e, margin, wa;
+    edmi__aim t;
+    edmi_real wa, s1 = EDMI__ZERO, so = sys->tank, xh = EDMI__ZERO, after;
     int a, i, j, pass;
     edmi_status st;
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(sys->body[a].q, work->q1[a]);
         edmi__copy3(sys->body[a].p, work->p1[a]);
-    }
-    edmi__frame_velocity(sys, work, (const edmi_real (*)[3])work->p1, v);
-    for (a = 0; a < sys->n_bodies; a++) {
-        edmi_real m = edmi__mass_row(sys, a);
         for (i = 0; i < 3; i++)
-            work->p1[a][i] = m * v[i];
+            xh = edmi__max(xh, edmi__abs(sys->body[a].p[i]));
+    }
+    edmi__guard_stop(sys, work);
+    for (a = 0; a < sys->n_bodies; a++) { /* magnitudes: the tank's capacity and the scale */
+        edmi_real m = edmi__mass_row(sys, a);
+        s1 += EDMI__HALF * edmi__dot(work->p1[a], work->p1[a]) / sys->body[a].m;
+        if (sys->has_field) {
+            edmi_real f = edmi__abs(m) * edmi__norm(sys->g) * edmi__norm(sys->body[a].q);
+            s1 += f;
+            so += EDMI_R(2.0) * f;
+        }
     }
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
@@ -3017,20 +3372,28 @@ static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
             return st;
         d1 = edmi__norm(r1);
         w->beta = EDMI__ZERO;
-        if (edmi__is_linear(&lk->pot))
+        if (edmi__is_linear(&lk->pot)) {
             w->beta = lk->pot.a;
-        else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK)
+            s1 += EDMI_R(1.5) * lk->pot.a * d1 * d1;
+            for (i = 0; i < 3; i++)
+                xh = edmi__max(xh, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
+        } else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK) {
             w->beta = pp.v[1] / d1;
+            s1 += edmi__pot_mag(&pp, d1);
+            so += w->m0 + edmi__pot_mag(&pp, d1);
+        }
         for (i = 0; i < 3; i++)
             w->f[i] = w->beta * r1[i];
         if (!edmi__finite3(w->f))
             return EDMI_ERR_RANGE;
     }
+    edmi__set_scale(&bal, xh, so);
     st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
     if (st != EDMI_OK)
         return EDMI_ERR_PASSIVITY;
     wa = edmi__dw_real(bal.dv) + edmi__abs(bal.dv.lo) + bal.err_v;
-    wa += edmi__abs(wa) * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN;
+    wa += edmi__abs(wa) * (EDMI_R(4.0) * EDMI_EPS);
+    wa = edmi__down2(&bal, wa) + EDMI__REAL_MIN; /* rounded up, a subnormal quotient too */
     if (sys->n_moving == 0)
         wa = EDMI__ZERO; /* nothing moved: every link term is exactly 0 (edmi__delta_v) */
     res->work_ext = EDMI__ZERO;
@@ -3039,22 +3402,86 @@ static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work,
     res->diss_scheme = EDMI__ZERO;
     res->diss_guard = EDMI__ZERO;
     res->guard_action = 0;
-    bal.w = edmi__dw_of(wa);
+    bal.w = edmi__dw_up2(&bal, edmi__dw_of(wa));
+    t.tank = edmi__guard_on(&sys->params) ? edmi__up2(&bal, sys->tank) : EDMI__ZERO;
     for (pass = 0; pass < 2; pass++) {
         edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
-        if (!edmi__excess(&bal, &e, &margin))
+        if (!edmi__excess(&bal, &t.e, &t.margin))
             return EDMI_ERR_PASSIVITY;
-        if (e + margin <= EDMI__ZERO)
+        if (edmi__certified(&t))
             break;
         for (a = 0; a < sys->n_bodies; a++)
             for (i = 0; i < 3; i++)
                 work->p1[a][i] = EDMI__ZERO;
     }
-    if (!(e + margin <= EDMI__ZERO))
+    if (!edmi__certified(&t))
         return EDMI_ERR_PASSIVITY;
-    res->dh = edmi__dw_real(edmi__dw_add(bal.dv, bal.dk));
-    res->stop = EDMI_STOP_FALLBACK;
+    res->dh = edmi__down2(&bal, edmi__dw_real(edmi__dw_add(bal.dv, bal.dk)));
+    res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
+    if (edmi__guard_on(&sys->params)) {
+        res->tank_cap = sys->params.tank_cap * EDMI_EPS * s1;
+        res->tank_cap = res->tank_cap < EDMI_REAL_MAX ? res->tank_cap : EDMI_REAL_MAX;
+        after = edmi__down2(&bal, edmi__tank_after(t.tank, t.e, t.margin));
+        res->tank = after >= EDMI__REAL_MIN ? (after < res->tank_cap ? after : res->tank_cap)
+                                            : EDMI__ZERO;
+    }
     return EDMI_OK;
+}
+
+/* After Newton converged: work, forces, and with the guard (or energy_balance) the step's
+ * energy change, certified by the cheapest evaluation that settles it (see this section's
+ * head): the plain one where the step dissipates more than its bound and the tank stays
+ * full, else double-word, then the guard's moves where the tank cannot cover the step. */
+static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                edmi_step_result *res)
+{
+    edmi__balance bal;
+    edmi__plain pl;
+    edmi_real cap;
+    edmi_status st = edmi__step_work(sys, work, dt, res, &bal);
+    int guard = edmi__guard_on(&sys->params), exact = sys->params.energy_balance;
+    if (st == EDMI_OK && !(edmi__finite(res->work_ext) && edmi__finite(res->work_anchor) &&
+                           edmi__finite(res->diss_damping)))
+        st = EDMI_ERR_RANGE; /* a port's work F . dq or a damper's loss beyond the range */
+    if (st != EDMI_OK || (!guard && !exact))
+        return st;
+    st = edmi__plain_excess(sys, work, res, &pl);
+    if (st != EDMI_OK)
+        return st;
+    cap = guard ? sys->params.tank_cap * EDMI_EPS * pl.s1 : EDMI__ZERO;
+    res->tank_cap = cap < EDMI_REAL_MAX ? cap : EDMI_REAL_MAX;
+    if (guard && !exact && pl.ok && edmi__tank_after(sys->tank, pl.e, pl.m) >= cap) {
+        res->certificate = EDMI_CERT_PLAIN;
+        res->tank = res->tank_cap;
+        res->dh = pl.e + (res->work_ext + res->work_anchor);
+        res->diss_scheme = pl.scheme;
+        return EDMI_OK;
+    }
+    edmi__set_scale(&bal, pl.x_hom, pl.s_other + sys->tank);
+    bal.w = edmi__dw_up2(&bal, bal.w);
+    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
+    if (st != EDMI_OK)
+        return st;
+    res->diss_scheme = edmi__down2(&bal, edmi__dw_real(bal.scheme));
+    if (!edmi__finite(res->diss_scheme) || !edmi__finite(edmi__dw_real(bal.dv)))
+        return EDMI_ERR_RANGE; /* a link energy (|r|^2, V) beyond the range */
+    res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
+    if (guard) {
+        st = edmi__guard(sys, work, &bal, res->tank_cap, res);
+        if (st == EDMI_ERR_PASSIVITY && bal.scale != EDMI__ONE) {
+            /* at the bottom of the range a position's rounding can exceed what every move
+             * of the momenta covers (double, |q| ~ 1e-321): the bodies stop where they were */
+            st = edmi__freeze(sys, work, res);
+            res->guard_action |= EDMI_GUARD_STOP;
+            return st;
+        }
+        if (st != EDMI_OK)
+            return st;
+    } else {
+        edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
+    }
+    res->dh = edmi__down2(&bal, edmi__dw_real(edmi__dw_add(bal.dv, bal.dk)));
+    return edmi__finite(res->dh) ? EDMI_OK : EDMI_ERR_PASSIVITY;
 }
 
 /* t += dt with Kahan's compensation: after n steps t is off by ~eps t, not ~n eps t, which
@@ -3082,6 +3509,9 @@ static void edmi__clear_result(edmi_step_result *res)
     res->dh = EDMI__ZERO;
     res->diss_guard = EDMI__ZERO;
     res->guard_action = 0;
+    res->certificate = EDMI_CERT_NONE;
+    res->tank = EDMI__ZERO;
+    res->tank_cap = EDMI__ZERO;
 }
 
 /* The round-off noise of the scaled residual at the current iterate: eps times the
@@ -3100,8 +3530,12 @@ static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work,
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real np = edmi__norm(bd->p) + edmi__norm(work->p1[a]);
-        acc[3 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np);
-        acc[3 * a + 1] = EDMI_EPS * np;
+        /* the subnormal unit REAL_MIN eps too: below the smallest normal, rounding is absolute
+         * (a body settling onto its anchor in float reaches q ~ 1e-41, where Newton's
+         * residual cannot fall below ~1e-4 of its scales) */
+        acc[3 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np) +
+                     EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
+        acc[3 * a + 1] = EDMI_EPS * np + EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
         if (sys->has_field)
             acc[3 * a + 1] += EDMI_EPS * dt * bd->m * edmi__norm(sys->g);
     }
@@ -3289,6 +3723,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     st = edmi__prepare_links(sys, work);
     if (st != EDMI_OK)
         return st;
+    res->tank = sys->tank; /* the guard sets the tank after the step */
 
     /* Predictor: q_n+1,(0) = q_n, p_n+1,(0) = p_n. */
     for (a = 0; a < sys->n_bodies; a++) {
@@ -3312,9 +3747,10 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     if (st != EDMI_OK) {
         if (!sys->params.fallback || !edmi__is_solver_failure(st))
             return st;
-        st = edmi__fallback(sys, work, res);
+        st = edmi__freeze(sys, work, res);
         if (st != EDMI_OK)
             return st;
+        res->stop = EDMI_STOP_FALLBACK;
     }
 
     /* Commit. */
@@ -3327,6 +3763,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     for (i = 0; i < sys->n_moving; i++)
         edmi__copy3(sys->anchor_next[sys->moving[i]], sys->link[sys->moving[i]].anchor);
     sys->n_moving = 0;
+    sys->tank = res->tank;
     edmi__advance_clock(sys, dt);
     return EDMI_OK;
 }
@@ -3547,6 +3984,7 @@ edmi_params edmi_default_params(void)
     p.l_max = 20;
     p.energy_balance = 0;
     p.guard = EDMI_GUARD_AUTO;
+    p.tank_cap = EDMI__TANK_CAP;
     p.fallback = 0;
     /* No tolerance to tune: Newton stops at its round-off floor in either precision
      * (edmi__newton). tol_r and tol_a are early stops for studies, off by default. */
@@ -3733,7 +4171,7 @@ edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_a
     k = gap - 1;
     old = sys->mass_off[hi][k];
     sys->mass_off[hi][k] = m_ab;
-    if (!edmi__mass_cholesky(sys, 0)) { /* not positive definite: put the old entry back */
+    if (!edmi__mass_provable(sys)) { /* not provably definite: put the old entry back */
         sys->mass_off[hi][k] = old;
         return EDMI_ERR_MASS;
     }
@@ -3744,6 +4182,20 @@ edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_a
     (void)m_ab;
     return sys ? EDMI_ERR_CAPACITY : EDMI_ERR_NULL;
 #endif
+}
+
+edmi_status edmi_set_tank(edmi_system *sys, edmi_real t)
+{
+    if (!sys)
+        return EDMI_ERR_NULL;
+    if (!edmi__finite(t))
+        return EDMI_ERR_NONFINITE;
+    if (t < EDMI__ZERO)
+        return EDMI_ERR_PARAM;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
+    sys->tank = t;
+    return EDMI_OK;
 }
 
 edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3])
@@ -3852,8 +4304,9 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         return EDMI_ERR_CAPACITY;
 #if EDMI_MAX_MASS_GAP > 0
     if (scene->n_mass_couplings > 0 &&
-        !edmi__cholesky(scene->n_bodies, scene->bodies, edmi__off_scene, scene, 0, 0))
-        return EDMI_ERR_MASS; /* M not positive definite */
+        !(edmi__mass_lambda_min(scene->n_bodies, scene->bodies, edmi__off_scene, scene) >
+          EDMI__ZERO))
+        return EDMI_ERR_MASS; /* M not provably positive definite */
 #endif
     for (i = 0; i < EDMI__N_DAMPERS(scene); i++) {
         const edmi_damper *d = &scene->dampers[i];

@@ -191,9 +191,10 @@ typedef enum edmi_status {
     EDMI_ERR_DIVERGED,       /*!< Newton left the potentials' domain (a distance 0, a
                                   non-finite value, a user callback refusing) and halving the
                                   correction did not bring it back within l_max iterations */
-    EDMI_ERR_PASSIVITY,      /*!< the guard could not certify H_n+1 - H_n <= work (values
-                                  beyond the range its double-word arithmetic covers, or an
-                                  excess larger than the kinetic energy it may remove) */
+    EDMI_ERR_PASSIVITY,      /*!< the guard could not certify H_n+1 - H_n <= work + what the
+                                  energy tank holds (values beyond the range its double-word
+                                  arithmetic covers, or an excess larger than the kinetic
+                                  energy it may remove) */
     EDMI_ERR_RANGE           /*!< a result is beyond the precision's range although every
                                   input is finite: a step's scale (|q| + dt |p| / m), its
                                   residual, work or energy balance, an invariant, a
@@ -247,9 +248,16 @@ typedef struct edmi_params {
                               of the predictor; 0 (default): off, Newton runs to its floor */
     edmi_real tol_a;     /*!< optional early stop: scaled residual <= tol_a; 0 (default): off */
     int l_max;           /*!< at most this many Newton corrections per step (>= 1) */
-    int energy_balance;  /*!< non-zero: edmi_step reports diss_scheme even with the guard off
-                              (costs a double-word evaluation of H per step); 0 by default */
-    edmi_guard_mode guard; /*!< passivity guard: H_n+1 - H_n <= work on the stored values */
+    int energy_balance;  /*!< non-zero: edmi_step reports dh and diss_scheme in double-word
+                              arithmetic on every step, guard on or off (costs a double-word
+                              evaluation of H per step); 0 by default */
+    edmi_guard_mode guard; /*!< passivity guard: H_n+1 - H_n <= work + T_n - T_n+1 on the
+                              stored values, T the energy tank (edmi_system.tank) */
+    edmi_real tank_cap;  /*!< the energy tank's capacity in units of EDMI_EPS times the
+                              magnitude of H's terms at the step's end (res.tank_cap): over any
+                              window of steps H rises by at most the work plus the tank's
+                              level at its start. 64 by default; 0 is the per-step guarantee
+                              H_n+1 - H_n <= work (README, "Energy-safe stepping") */
     int fallback;        /*!< non-zero: a step whose Newton solve fails (l_max reached,
                               diverged, singular) stores the fallback state instead of
                               failing: positions kept, kinetic energy relative to the
@@ -364,6 +372,12 @@ typedef struct edmi_system {
      *  body[a].m. M must stay symmetric positive definite: edmi_step() checks it. */
     edmi_real mass_off[EDMI_MAX_BODIES][EDMI_MAX_MASS_GAP];
 #endif
+    /** The energy tank T_n [energy]: with the guard on, every step stores a state with
+     *  H_n+1 - H_n <= work + T_n - T_n+1 exactly, and 0 <= T_n+1 <= res.tank_cap, so that
+     *  T_n <= (the work supplied since T was 0) - (H_n - H at that time). 0 after edmi_init()
+     *  and edmi_load_scene(); read it, save and restore it with the bodies, or empty it, with
+     *  edmi_set_tank(). Untouched by steps with the guard off. */
+    edmi_real tank;
     /** Output of the last successful step: the mean force link j applied on its second end
      *  (body b, or the anchor: the force a motor renders to a hand) over the step, its
      *  algorithmic force plus its dampers [M L/T^2]. The work the anchors did on the system
@@ -381,6 +395,9 @@ typedef struct edmi_link_ws {
     edmi_real dve0;  /* V_e'(d_n) */
     edmi_real d3p0;  /* V_+'''(d_n) */
     edmi_real d3m0;  /* V_-'''(d_n) */
+    edmi_real m0;    /* the magnitude of V's terms at d_n (the guard's plain error bound) */
+    edmi_real d1, v1, m1; /* d_n+1, V(d_n+1) and its magnitude at the last evaluation, when
+                             the scheme evaluated V there (have1) */
     edmi_real beta;    /* beta of the last residual evaluation (energy balance, guard) */
     edmi_real noise;   /* LG quotient: its cancellation error in the link's force */
     edmi_real x1[3];   /* anchor links: the anchor at the end of the step */
@@ -392,6 +409,7 @@ typedef struct edmi_link_ws {
      * error of each as a double-word pair), error bound, size; bal_on: any end moved */
     edmi_real bal_dv[2], bal_sc[2], bal_err, bal_size;
     int bal_on;
+    int have1;
 } edmi_link_ws;
 
 /** A scene as plain constant data (it can live in flash): the bodies, links and dampers
@@ -457,6 +475,20 @@ typedef enum edmi_stop {
                                    no link could remove the excess */
 #define EDMI_GUARD_ROUND 4u   /*!< momentum components moved by a few units in the last place
                                    (the energy-aware rounding of the stored state) */
+#define EDMI_GUARD_STOP 8u    /*!< at the bottom of the range (every energy below ~2^-54 of a
+                                   unit in float, 2^-863 in double: a system come to rest),
+                                   where the grid is too coarse for the moves above: positions
+                                   kept and momenta set to the frame's, as the fallback state */
+
+/** How a step's energy change was certified (edmi_step_result.certificate). */
+typedef enum edmi_certificate {
+    EDMI_CERT_NONE = 0,   /*!< not evaluated (guard off, no energy_balance, or a failed step) */
+    EDMI_CERT_PLAIN,      /*!< working precision with an a-priori error bound: the step
+                               dissipated more than the bound and the tank stays full */
+    EDMI_CERT_DOUBLE_WORD, /*!< double-word arithmetic, error ~ EDMI_EPS^2 of H's terms */
+    EDMI_CERT_SCALED      /*!< double-word on values scaled by a power of two: energies
+                               near the bottom of the range (a system coming to rest) */
+} edmi_certificate;
 
 /** What one step did. Filled on success and on EDMI_ERR_SINGULAR / NO_CONVERGENCE /
  *  DIVERGED / PASSIVITY (so the caller can see how far Newton got); zeroed on input errors. */
@@ -473,7 +505,8 @@ typedef struct edmi_step_result {
     /* The discrete energy balance of the stored states,
      *     H_n+1 - H_n = work_ext + work_anchor - diss_scheme - diss_damping - diss_guard,
      * exact up to the Newton residual. With the guard on, H_n+1 - H_n <= work_ext +
-     * work_anchor holds exactly for the stored values (README, "Energy-safe stepping"). */
+     * work_anchor + T_n - T_n+1 holds exactly for the stored values and the tank (README,
+     * "Energy-safe stepping"). */
     edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n), correctly
                                  rounded from the stored positions */
     edmi_real work_anchor;  /*!< work the moving anchors did on the system,
@@ -481,14 +514,20 @@ typedef struct edmi_step_result {
     edmi_real diss_damping; /*!< energy the dampers removed (>= 0) */
     edmi_real diss_scheme;  /*!< energy the scheme removed: sum over links of (work of the
                                  algorithmic force) - (V(d_n+1) - V(d_n)); >= 0 for GE/PM/PT,
-                                 ~0 for LG, either sign for MP. With the guard or
-                                 energy_balance (evaluated in double-word arithmetic) */
-    edmi_real dh;           /*!< H_n+1 - H_n of the stored states in double-word arithmetic,
-                                 rounded (with the guard or energy_balance) */
+                                 ~0 for LG, either sign for MP. With energy_balance in
+                                 double-word arithmetic; with the guard alone as its
+                                 certificate evaluated it (res.certificate) */
+    edmi_real dh;           /*!< H_n+1 - H_n of the stored states as evaluated (double-word
+                                 with energy_balance; with the guard alone as its
+                                 certificate evaluated it), rounded */
     edmi_real diss_guard;   /*!< energy the guard's changes removed: H change of Newton's
-                                 iterate minus that of the stored state (either sign: the
-                                 energy-aware rounding also undoes rounding losses) */
+                                 iterate minus that of the stored state (0 when the tank
+                                 covered the step, as on most steps) */
     unsigned guard_action;  /*!< EDMI_GUARD_IMPULSE | _DRAG | _ROUND: what the guard did */
+    edmi_certificate certificate; /*!< how the guard (or energy_balance) evaluated the step */
+    edmi_real tank;         /*!< the energy tank after the step, T_n+1 (sys->tank) */
+    edmi_real tank_cap;     /*!< its capacity at the step's end: params.tank_cap EDMI_EPS
+                                 times the magnitude of H's terms there [energy] */
 } edmi_step_result;
 
 /** Invariants of a state (section 2 and 4.1 of the paper). */
@@ -557,15 +596,23 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
  *  masses), e.g. m/6 per bar element of mass m with a consistent mass matrix (whose ends then
  *  have body mass m/3 each from that element). m_ab = 0 uncouples them. Needs
  *  EDMI_MAX_MASS_GAP >= |a - b|. Every scheme steps M (q_n+1 - q_n) = dt p_n+1/2, the field
- *  pulls body a with (M 1)_a g, and the passivity guard certifies H_n+1 - H_n <= work with
- *  K = 1/2 p . M^-1 p; the guard's error bound needs M diagonally dominant (m_aa > sum over b
- *  of |m_ab|, as every consistent mass matrix of bar elements is), else its steps fail with
- *  EDMI_ERR_PASSIVITY (or take the fallback).
+ *  pulls body a with (M 1)_a g, and the passivity guard certifies its inequality with
+ *  K = 1/2 p . M^-1 p, its error bounded through a certified lower bound on M's smallest
+ *  eigenvalue (a shifted Cholesky factorisation, Rump): any symmetric positive definite M
+ *  whose smallest eigenvalue that bound proves positive is accepted (consistent triangles
+ *  and tetrahedra included), any other refused here with EDMI_ERR_MASS.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (a or b no body, or a == b),
  *          EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY (|a - b| > EDMI_MAX_MASS_GAP, or the Newton
  *          matrix would outgrow EDMI_MAX_MATRIX), EDMI_ERR_MASS (M would not be positive
- *          definite); on any error sys is unchanged */
+ *          definite, or not provably so in working precision); on any error sys is unchanged */
 edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_ab);
+
+/** \brief Set the energy tank T (edmi_system.tank): 0 empties it; a value read from sys.tank
+ *  restores it with a saved state. The guard lets a later step spend what the tank holds
+ *  (at most its capacity after that step).
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE, EDMI_ERR_PARAM (t < 0),
+ *          EDMI_ERR_CAPACITY (a count in sys out of range); on any error sys is unchanged */
+edmi_status edmi_set_tank(edmi_system *sys, edmi_real t);
 
 /** \brief Move the anchor of link `link` during the next step: it goes from its current
  *  position to x (straight, at constant speed) while the step runs, and stays at x after it.
@@ -602,8 +649,9 @@ edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
  *  The system changes only when EDMI_OK is returned.
  *  \param[in,out] sys the system; \param[out] work scratch space; \param[in] dt > 0
  *  \param[out] res what the step did, or NULL
- *  With the guard on (params.guard), the stored state satisfies
- *  H(q_n+1, p_n+1) - H(q_n, p_n) <= res->work_ext + res->work_anchor exactly. With
+ *  With the guard on (params.guard), the stored state and the tank T (sys->tank) satisfy
+ *  H(q_n+1, p_n+1) - H(q_n, p_n) <= res->work_ext + res->work_anchor + T_n - T_n+1 exactly,
+ *  with 0 <= T_n+1 <= res->tank_cap (T_n+1 = T_n = 0 when params.tank_cap is 0). With
  *  params.fallback, a failure of the solve (SINGULAR, NO_CONVERGENCE, DIVERGED, PASSIVITY)
  *  stores the fallback state instead and returns EDMI_OK (res->stop == EDMI_STOP_FALLBACK).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,

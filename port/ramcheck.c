@@ -14,8 +14,9 @@
  * Assumptions: int is 4 bytes; edmi_real and pointers are aligned to their size (AAPCS Arm,
  * RISC-V ilp32/lp64, x86-64, AArch64; not i386, where double is 4-aligned in structs); an
  * enum is 4 bytes except on arm-none-eabi, whose GCC defaults to -fshort-enums (E = 1).
- *   edmi_params    = up(up(up(3E, R) + 3R + 2*4 + E, 4) + 4, R)   3 enums, 3 reals, 2 ints,
- *                                                                guard (enum), fallback (int)
+ *   edmi_params    = up(up(up(3E, R) + 3R + 2*4 + E, R) + R + 4, R)   3 enums, 3 reals,
+ *                                                                2 ints, guard (enum),
+ *                                                                tank_cap, fallback (int)
  *   edmi_potential = up(up(up(E, R) + 2R, P) + 3P, RP)           kind, a, b, fn, dd, ctx
  *   edmi_link      = up(2*4 + 3R, RP) + edmi_potential           a, b, anchor[3], pot
  *   edmi_body      = 7R                                          m, q[3], p[3]
@@ -26,12 +27,12 @@
  *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
  *     s = up(s, R) + D*edmi_damper + 4 + 4N                      damper[D], n_forced, forced[N]
  *     s = up(s, R) + 3R*N + 4 + 4L                               force[N][3], n_moving, moving[L]
- *     s = up(s, R) + 6R*L + N*G*R                                anchor_next[L][3], mass_off[N][G]
+ *     s = up(s, R) + 6R*L + N*G*R + R                            anchor_next[L][3], mass_off[N][G]
  *                                                                (G = EDMI_MAX_MASS_GAP, 0 by
- *                                                                default), link_force[L][3]
+ *                                                                default), tank, link_force[L][3]
  *     sizeof(edmi_system) = up(s, RP)
- *   edmi_link_ws   = up(30R + 4, R)     r0[3], 8 scalars, x1[3], f[3], gamma, rm[3], u[3],
- *                                       the balance's 6 reals, bal_on
+ *   edmi_link_ws   = up(34R + 8, R)     r0[3], 12 scalars, x1[3], f[3], gamma, rm[3], u[3],
+ *                                       the balance's 6 reals, bal_on, have1
  *   edmi_workspace = up((M + 21N + 9D) R + L*edmi_link_ws + 4(6N + L + 3), R)
  *                    reals, lw[L], then the ints row[3N], order[L], n_pair, piv[3N], kb, upper
  * The 21N reals are q1, p1, rq, rp, dp, rhs (3 each) and sq, sp, h (1 each); M =
@@ -49,7 +50,7 @@
 #define TGT_RP TGT_MAX(TGT_R, TGT_P)
 
 #define TGT_PARAMS \
-    TGT_UP(TGT_UP(TGT_UP(3u * TGT_E, TGT_R) + 3u * TGT_R + 8u + TGT_E, 4u) + 4u, TGT_R)
+    TGT_UP(TGT_UP(TGT_UP(3u * TGT_E, TGT_R) + 3u * TGT_R + 8u + TGT_E, TGT_R) + TGT_R + 4u, TGT_R)
 #define TGT_POT TGT_UP(TGT_UP(TGT_UP(TGT_E, TGT_R) + 2u * TGT_R, TGT_P) + 3u * TGT_P, TGT_RP)
 #define TGT_LINK (TGT_UP(8u + 3u * TGT_R, TGT_RP) + TGT_POT)
 #define TGT_DAMPER (TGT_UP(4u, TGT_R) + TGT_R)
@@ -59,32 +60,32 @@
 #define TGT_S4 (TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
 #define TGT_G ((unsigned long)EDMI_MAX_MASS_GAP)
-#define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G)
+#define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G + TGT_R)
 #define TGT_SYSTEM TGT_UP(TGT_S6, TGT_RP)
 #define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
-#define TGT_LINK_WS TGT_UP(30u * TGT_R + 4u, TGT_R)
+#define TGT_LINK_WS TGT_UP(34u * TGT_R + 8u, TGT_R)
 #define TGT_WORKSPACE                                                                         \
     TGT_UP((TGT_M + 21u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                  \
                4u * (6u * TGT_N + TGT_L + 3u),                                                \
            TGT_R)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
- * K + R M + b N + l L + d D + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
- *   float:  K = 88 with 1-byte enums (arm-none-eabi), 96 with 4-byte ones; b = 152, d = 44;
- *           l = 200 with 4-byte pointers, 220 with 8-byte ones; pad = 0 with 4-byte
- *           pointers, else 4 when N is odd (alignment of link[] after body[N]) + 4 when L is
- *           even (the system's tail, rounded up to the pointers' 8)
- *   double: K = 132 with 1-byte enums, 140 with 4-byte ones; b = 276, d = 88;
- *           l = 376 with 4-byte pointers, 384 with 8-byte ones; pad = 4 when N is even (the
+ * K + R M + b N + l L + d D + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
+ *   float:  K = 96 with 1-byte enums (arm-none-eabi), 104 with 4-byte ones; b = 152, d = 44;
+ *           l = 220 with 4-byte pointers, 240 with 8-byte ones; pad = 0 with 4-byte
+ *           pointers, else 4 when N is even (alignment of link[] after body[N]) + 4 when
+ *           L + N G is odd (the system's tail, rounded up to the pointers' 8)
+ *   double: K = 156 with 1-byte enums, 164 with 4-byte ones; b = 276, d = 88;
+ *           l = 408 with 4-byte pointers, 416 with 8-byte ones; pad = 4 when N is even (the
  *           int array forced[N] before force[N][3]) + 8 when L is even (the int arrays
  *           moving[L] before anchor_next[L][3], and the workspace's int tail rounded up to 8) */
-#define TGT_CLOSED_K ((TGT_R == 4u ? 88u : 132u) + (TGT_E == 4u ? 8u : 0u))
+#define TGT_CLOSED_K ((TGT_R == 4u ? 96u : 156u) + (TGT_E == 4u ? 8u : 0u))
 #define TGT_CLOSED_B (TGT_R == 4u ? 152u : 276u)
-#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 200u : 376u) : (TGT_R == 4u ? 220u : 384u))
+#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 220u : 408u) : (TGT_R == 4u ? 240u : 416u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_PAD                                                                      \
     (TGT_R == 8u   ? (TGT_N % 2u == 0u ? 4u : 0u) + (TGT_L % 2u == 0u ? 8u : 0u)             \
-     : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) + (TGT_L % 2u == 0u ? 4u : 0u)             \
+     : TGT_P == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) + ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) \
                    : 0u)
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + TGT_R * TGT_M + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L +             \

@@ -216,8 +216,11 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
         mag += m0 + m1;
     }
     out->dh = dh;
-    out->w = (long double)res->work_ext + (long double)res->work_anchor;
-    out->err = TP_ERR_ULPS * LDBL_EPSILON * (mag + tp_absl(out->w));
+    out->w = (long double)res->work_ext + (long double)res->work_anchor +
+             ((long double)s0->tank - (long double)s1->tank);
+    out->err = TP_ERR_ULPS * LDBL_EPSILON *
+               (mag + tp_absl((long double)res->work_ext) + tp_absl((long double)res->work_anchor) +
+                (long double)s0->tank + (long double)s1->tank);
     out->mag = mag;
     return dh - dh == 0.0L && out->err - out->err == 0.0L;
 }
@@ -462,15 +465,21 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
     long double j0[3], jn, scale;
     long k;
     int track_j = s == TP_SPRING || s == TP_STIFF;
+    /* over the steps m so far: min of A_m + T_m and of A_m, A_m = H_m - sum_{k<m} W_k, and the
+     * accumulated error of A */
+    long double a_min = 0.0L, a_low = 0.0L, a_err = 0.0L;
     st->steps = st->violations = st->rises = st->uncertain = 0;
     st->fallbacks = st->guarded = st->iterations = 0;
+    st->window_violations = st->tank_violations = 0;
     st->worst = -1.0L;
-    st->sum_w = st->max_dj = 0.0L;
+    st->sum_w = st->max_dj = st->max_window = st->max_cap = st->window_err = 0.0L;
     st->status = tp_build(s, prm, &tp_sys, &dt);
     if (st->status != EDMI_OK)
         return;
     st->h0 = st->h_last = tp_h(&tp_sys);
     scale = tp_absl(st->h0) > 0.0L ? tp_absl(st->h0) : 1.0L;
+    a_min = st->h0 + (long double)tp_sys.tank;
+    a_low = st->h0;
     tp_j(&tp_sys, j0);
     jn = tp_sqrtl(j0[0] * j0[0] + j0[1] * j0[1] + j0[2] * j0[2]);
     for (k = 0; k < n; k++) {
@@ -489,12 +498,32 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
             st->violations++; /* a state the check cannot evaluate is not accepted */
             continue;
         }
-        st->sum_w += d.w;
         st->violations += d.dh - d.w > d.err;
         st->uncertain += tp_absl(d.dh - d.w) <= d.err;
         st->rises += d.dh > d.err;
         if ((d.dh - d.w) / scale > st->worst)
             st->worst = (d.dh - d.w) / scale;
+        /* the works alone (d.w holds the tank's part too) */
+        st->sum_w += (long double)res.work_ext + (long double)res.work_anchor;
+        st->tank_violations += !(tp_sys.tank >= 0 && tp_sys.tank <= res.tank_cap &&
+                                 tp_sys.tank == res.tank);
+        if ((long double)res.tank_cap / scale > st->max_cap)
+            st->max_cap = (long double)res.tank_cap / scale;
+        {
+            /* windows: A_n = H_n - sum_{k<n} W_k must stay <= A_m + T_m for every m < n. A_n
+             * from this step's change (H_n = H_n-1 + dh, not a fresh H: its rounding is in
+             * d.err, accumulated into a_err) */
+            long double a_n = st->h_last + d.dh - st->sum_w;
+            a_err += d.err + LDBL_EPSILON * (tp_absl(st->sum_w) + tp_absl(a_n));
+            if ((a_n - a_low) / scale > st->max_window)
+                st->max_window = (a_n - a_low) / scale;
+            st->window_violations += a_n - a_min > a_err;
+            st->h_last += d.dh;
+            if (a_n + (long double)tp_sys.tank < a_min)
+                a_min = a_n + (long double)tp_sys.tank;
+            if (a_n < a_low)
+                a_low = a_n;
+        }
         if (track_j && (k & 63) == 0) {
             long double j[3], dj;
             tp_j(&tp_sys, j);
@@ -505,4 +534,5 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
         }
     }
     st->h_last = tp_h(&tp_sys);
+    st->window_err = a_err / scale;
 }

@@ -8,11 +8,13 @@
 
 /* H(s1) - H(s0) of two stored states of the same system (anchors where each state has them),
  * evaluated term by term in long double: dh, with err a bound on its rounding error (the
- * check's own resolution), and w = work_ext + work_anchor as reported, summed exactly.
- * Built-in potentials other than user ones. Returns 0 if a term cannot be evaluated. */
+ * check's own resolution), and w = work_ext + work_anchor + T(s0) - T(s1), the reported works
+ * plus what the energy tank gave (edmi_system.tank before and after): the guard's inequality
+ * is dh <= w. Built-in potentials other than user ones. Returns 0 if a term cannot be
+ * evaluated. */
 typedef struct tp_delta {
     long double dh;  /* H(s1) - H(s0) */
-    long double w;   /* res.work_ext + res.work_anchor */
+    long double w;   /* res.work_ext + res.work_anchor + s0->tank - s1->tank */
     long double err; /* |computed dh - exact dh| <= err */
     long double mag; /* the magnitude of dh's terms (what a plain evaluation errs by, per unit
                         of round-off) */
@@ -61,6 +63,14 @@ typedef struct tp_stats {
     long double h0, h_last;  /* H at start and end */
     long double sum_w;       /* sum of w: the work supplied */
     long double max_dj;      /* max |J - J0| / |J0| (anchors at the origin and no field only) */
+    /* The tank's statement on every window m < n of the run: H_n - H_m <= sum of the works
+     * in between + T_m, with 0 <= T <= res.tank_cap after every step. */
+    long window_violations;  /* steps n at which some window ending there broke it */
+    long tank_violations;    /* steps whose tank was negative, above its capacity or not the
+                                reported one */
+    long double max_window;  /* max over windows of H_n - H_m - sum W, over H0 */
+    long double max_cap;     /* the largest capacity reported, over H0 */
+    long double window_err;  /* the window check's own accumulated rounding bound, over H0 */
 } tp_stats;
 
 /* Take n steps of scene s (built with prm), checking the inequality after every step. */

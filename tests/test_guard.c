@@ -48,30 +48,48 @@ static void gd_log(tp_scene sc, edmi_scheme s, const tp_stats *st)
     th_put_int(st->fallbacks);
     th_puts(", max (dH - W)/H0 ");
     th_put_real((edmi_real)st->worst, 2);
+    th_puts(", window rise/H0 ");
+    th_put_real((edmi_real)st->max_window, 2);
+    th_puts(" (cap/H0 ");
+    th_put_real((edmi_real)st->max_cap, 2);
+    th_puts(")");
     th_newline();
 }
 
-/* (1) Every scene, every scheme: every accepted step satisfies the inequality. Scenes
- * without ports or moving anchors do no work: H never rises there. */
+/* (1) Every scene, every scheme, with the default tank and with none (tank_cap = 0): every
+ * accepted step satisfies H_n+1 - H_n <= W + T_n - T_n+1 on the stored values, every
+ * window m..n H_n - H_m <= W + T_m, and 0 <= T <= the reported capacity. Scenes without
+ * ports or moving anchors do no work: H rises there only within the tank, never beyond the
+ * largest capacity, and with tank_cap = 0 never. */
 static void gd_scenes(void)
 {
-    int sc, k;
-    for (sc = 0; sc < TP_NSCENES; sc++)
-        for (k = 0; k < 5; k++) {
-            edmi_params prm = gd_params(gd_schemes[k]);
-            tp_stats st;
-            int f0 = th_failed();
-            tp_run((tp_scene)sc, &prm, GD_STEPS, &st);
-            CHECK_STATUS(st.status, EDMI_OK);
-            CHECK(st.steps == GD_STEPS);
-            CHECK(st.violations == 0);
-            if (sc == TP_SPRING || sc == TP_STIFF || sc == TP_COLLIDE)
-                CHECK(st.rises == 0);
-            if (sc != TP_STIFF && k < 3) /* GE, PM, PT solve every step here */
-                CHECK(st.fallbacks == 0);
-            if (th_failed() != f0 || sc == TP_SPRING)
-                gd_log((tp_scene)sc, gd_schemes[k], &st);
-        }
+    int sc, k, cap0;
+    for (cap0 = 0; cap0 < 2; cap0++)
+        for (sc = 0; sc < TP_NSCENES; sc++)
+            for (k = 0; k < 5; k++) {
+                edmi_params prm = gd_params(gd_schemes[k]);
+                tp_stats st;
+                int f0 = th_failed(), no_work = sc == TP_SPRING || sc == TP_STIFF ||
+                                                sc == TP_COLLIDE;
+                if (cap0)
+                    prm.tank_cap = EDMI_R(0.0);
+                tp_run((tp_scene)sc, &prm, GD_STEPS, &st);
+                CHECK_STATUS(st.status, EDMI_OK);
+                CHECK(st.steps == GD_STEPS);
+                CHECK(st.violations == 0);
+                CHECK(st.window_violations == 0);
+                CHECK(st.tank_violations == 0);
+                if (no_work)
+                    CHECK(st.max_window <= st.max_cap + st.window_err);
+                if (no_work && cap0)
+                    CHECK(st.rises == 0);
+                if (sc != TP_STIFF && k < 3) /* GE, PM, PT solve every step here */
+                    CHECK(st.fallbacks == 0);
+                if (th_failed() != f0 || sc == TP_SPRING) {
+                    th_puts(cap0 ? "  no tank:" : "  tank:");
+                    gd_log((tp_scene)sc, gd_schemes[k], &st);
+                }
+            }
 }
 
 /* (2) The check can fail: with the guard off, the stored state of the same runs rises on
@@ -93,7 +111,8 @@ static void gd_guard_off_rises(edmi_scheme s)
     th_note_int(" on the spring: steps where the stored H rose", st.rises);
 }
 
-/* (2b) A plain evaluation sees no rise either. The checks above bound their own rounding and
+/* (2b) Without a tank (tank_cap = 0), a plain evaluation sees no rise either. The checks
+ * above bound their own rounding and
  * call a step uncertain when |dH| is below it; a firmware engineer checking the library evaluates
  * H of each stored state plainly and compares. In a 64-bit significand (x87 long double) that
  * comparison errs by a few 2^-64 of the terms, so an exact H change of 0 to -1e-18 of them can
@@ -109,6 +128,7 @@ static edmi_workspace gd_work;
 static void gd_plain_rises(edmi_scheme s)
 {
     edmi_params prm = gd_params(s);
+    prm.tank_cap = EDMI_R(0.0); /* the per-step statement: no tank to rise within */
     edmi_real dt;
     long n, rises = 0;
     long double h0, h1;

@@ -128,6 +128,7 @@ static void solver_state_writes(void)
         memcpy(sys_b.body[i].q, sys_a.body[i].q, sizeof sys_b.body[i].q);
         memcpy(sys_b.body[i].p, sys_a.body[i].p, sizeof sys_b.body[i].p);
     }
+    CHECK_STATUS(edmi_set_tank(&sys_b, sys_a.tank), EDMI_OK); /* the tank is state too */
     for (k = 0; k < 50; k++) {
         if (!CHECK_STATUS(edmi_step(&sys_a, &work_solver, EDMI_R(0.01), NULL), EDMI_OK) ||
             !CHECK_STATUS(edmi_step(&sys_b, &work_solver, EDMI_R(0.01), NULL), EDMI_OK))

@@ -46,6 +46,8 @@ static const char *const usage_text =
     "                            GE, PM, PT)\n"
     "  --fallback on|off         store the fallback state when a Newton solve fails\n"
     "                            (default: the scene's, else off)\n"
+    "  --tank-cap X              the guard's energy tank capacity in eps times H's terms\n"
+    "                            (default 64; 0: H never rises beyond each step's work)\n"
     "  --csv FILE                write a trace: t, H, J, L, C, iterations, every q and p\n"
     "                            (FILE '-' is stdout)\n"
     "  --every K                 one CSV row every K steps (default: `set every`, else 1)\n"
@@ -81,7 +83,8 @@ typedef struct sim_opts {
     const char *label;
     const char *ref; /* --ref FILE, or "converged" */
     int has_scheme, has_switch, has_tol_q, has_tol_r, has_tol_a, has_l_max, has_guard,
-        has_fallback;
+        has_fallback, has_tank_cap;
+    double tank_cap;
     edmi_scheme scheme;
     edmi_guard_mode guard;
     int fallback;
@@ -185,7 +188,7 @@ static void parse_args(int argc, char **argv, sim_opts *o)
             strcmp(name, "--tol-q") && strcmp(name, "--tol-r") && strcmp(name, "--tol-a") &&
             strcmp(name, "--l-max") && strcmp(name, "--csv") && strcmp(name, "--ref") &&
             strcmp(name, "--every") && strcmp(name, "--digits") && strcmp(name, "--label") &&
-            strcmp(name, "--balance-tol"))
+            strcmp(name, "--balance-tol") && strcmp(name, "--tank-cap"))
             usage_error("unknown option '%s'%s", a, "");
         if (!v) {
             if (i + 1 >= argc)
@@ -209,6 +212,9 @@ static void parse_args(int argc, char **argv, sim_opts *o)
             if (sim_parse_on_off(v, &o->fallback))
                 usage_error("--fallback: bad value '%s' (expected on or off)%s", v, "");
             o->has_fallback = 1;
+        } else if (strcmp(name, "--tank-cap") == 0) {
+            o->tank_cap = strcmp(v, "0") == 0 ? 0.0 : opt_positive(name, v); /* 0: no tank */
+            o->has_tank_cap = 1;
         } else if (strcmp(name, "--dt") == 0) {
             o->dt = opt_positive(name, v);
         } else if (strcmp(name, "--t-end") == 0) {
@@ -396,8 +402,10 @@ static void emit_c(const sim_scene *s, const char *path)
     emit_tol("tol_q", (double)s->params.tol_q, "1e-3");
     emit_tol("tol_r", (double)s->params.tol_r, "0.0");
     emit_tol("tol_a", (double)s->params.tol_a, "0.0");
-    printf("    .l_max = %d, .energy_balance = 0, .guard = %s, .fallback = %d};\n\n",
-           s->params.l_max, guard_c[s->params.guard], s->params.fallback);
+    printf("    .l_max = %d, .energy_balance = 0, .guard = %s, .tank_cap = %.17g,\n"
+           "    .fallback = %d};\n\n",
+           s->params.l_max, guard_c[s->params.guard], (double)s->params.tank_cap,
+           s->params.fallback);
     printf("static const edmi_scene %s_scene = {\n"
            "    .n_bodies = %d, .bodies = %s_bodies,\n"
            "    .n_links = %d, .links = %s_links,\n"
@@ -456,7 +464,9 @@ static double norm3r(const edmi_real a[3])
 /* Running totals of one run. */
 typedef struct sim_stats {
     long steps, iterations, stalled, lg_switch_steps;
-    long guard_steps, guard_impulse, guard_drag, guard_round, fallbacks;
+    long guard_steps, guard_impulse, guard_drag, guard_round, guard_stop, fallbacks;
+    long cert[4];        /* steps per edmi_certificate */
+    double max_tank, max_cap; /* the largest tank and capacity, relative to h_scale */
     int max_iterations;
     double wall;
     double h0, h_scale, max_dh, final_dh; /* dh relative to h_scale (|H0|, or 1 if H0 = 0) */
@@ -851,10 +861,19 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
            lc_ok ? "" : "  not an invariant here: ", lc_ok ? "" : why);
     printf("max |C - C0| %.3e   (|C0| = %.6g)%s%s\n", st->max_dc, norm3r(inv0->c),
            lc_ok ? "" : "  not an invariant here: ", lc_ok ? "" : why);
-    if (guard_on)
-        printf("guard     on (%s): changed %ld steps (impulse %ld, drag %ld, rounding %ld), "
-               "D_guard %.3e in all\n", sim_guard_word(p->guard), st->guard_steps,
-               st->guard_impulse, st->guard_drag, st->guard_round, st->d_guard);
+    if (guard_on) {
+        printf("guard     on (%s): changed %ld steps (impulse %ld, drag %ld, rounding %ld", 
+               sim_guard_word(p->guard), st->guard_steps, st->guard_impulse, st->guard_drag,
+               st->guard_round);
+        if (st->guard_stop)
+            printf(", stop %ld", st->guard_stop);
+        printf("), D_guard %.3e in all\n", st->d_guard);
+        printf("tank      capacity %g eps of H's terms: held at most %.3e%s (capacity at most "
+               "%.3e); certified plainly %ld, in double-word %ld, scaled %ld steps\n",
+               (double)p->tank_cap, st->max_tank, st->h0 != 0.0 ? " |H0|" : "", st->max_cap,
+               st->cert[EDMI_CERT_PLAIN], st->cert[EDMI_CERT_DOUBLE_WORD],
+               st->cert[EDMI_CERT_SCALED]);
+    }
     else
         printf("guard     off (%s)\n", sim_guard_word(p->guard));
     if (p->fallback)
@@ -868,13 +887,14 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
         printf("\n");
     }
     if (st->h_checked && st->max_rise_step > 0)
-        printf("H steps   H rose in %ld of %ld steps, by more than the work supplied in %ld "
-               "(long double on the stored states); largest one-step rise %+.3e%s at step %ld\n",
+        printf("H steps   H rose in %ld of %ld steps, by more than the work and the tank supplied "
+               "in %ld (long double on the stored states); largest one-step rise %+.3e%s at "
+               "step %ld\n",
                st->h_rises, st->steps, st->h_excess, st->max_rise,
                st->h0 != 0.0 ? " |H0|" : "", st->max_rise_step);
     else if (st->h_checked)
-        printf("H steps   H rose in 0 of %ld steps, by more than the work supplied in 0 (long double "
-               "on the stored states): it never rose\n", st->steps);
+        printf("H steps   H rose in 0 of %ld steps, by more than the work and the tank supplied in "
+               "0 (long double on the stored states): it never rose\n", st->steps);
     else
         printf("H steps   not checked: a state the long double evaluation cannot take (a "
                "coupled M that is not diagonally dominant)\n");
@@ -972,6 +992,8 @@ int main(int argc, char **argv)
         scn.params.guard = o.guard;
     if (o.has_fallback)
         scn.params.fallback = o.fallback;
+    if (o.has_tank_cap)
+        scn.params.tank_cap = (edmi_real)o.tank_cap;
     scn.params.energy_balance = o.energy_balance;
     if (o.emit_c) {
         emit_c(&scn, o.scene);
@@ -1090,7 +1112,14 @@ int main(int argc, char **argv)
             st.guard_impulse += (res.guard_action & EDMI_GUARD_IMPULSE) != 0;
             st.guard_drag += (res.guard_action & EDMI_GUARD_DRAG) != 0;
             st.guard_round += (res.guard_action & EDMI_GUARD_ROUND) != 0;
+            st.guard_stop += (res.guard_action & EDMI_GUARD_STOP) != 0;
         }
+        if ((unsigned)res.certificate < 4u)
+            st.cert[res.certificate]++;
+        if ((double)res.tank / st.h_scale > st.max_tank)
+            st.max_tank = (double)res.tank / st.h_scale;
+        if ((double)res.tank_cap / st.h_scale > st.max_cap)
+            st.max_cap = (double)res.tank_cap / st.h_scale;
         st.w_ext += (double)res.work_ext;
         st.w_anchor += (double)res.work_anchor;
         st.d_scheme += (double)res.diss_scheme;
@@ -1137,6 +1166,7 @@ int main(int argc, char **argv)
                 }
                 for (i = 0; i < sys.n_bodies; i++)
                     prev_sys.body[i] = sys.body[i];
+                prev_sys.tank = sys.tank;
                 for (i = 0; i < sys.n_links; i++)
                     memcpy(prev_sys.link[i].anchor, sys.link[i].anchor, sizeof sys.link[i].anchor);
             } else {
