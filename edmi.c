@@ -1683,9 +1683,10 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
  * guard evaluates the change of H in it. Algorithms and error bounds (u = eps/2): Joldes,
  * Muller, Popescu, "Tight and rigorous error bounds for basic building blocks of double-word
  * arithmetic", ACM TOMS 44 (2017): 2Sum and Fast2Sum exact; TwoProd exact (fused multiply-
- * add, or Veltkamp/Dekker splitting, exact barring overflow and underflow); DW+DW <= 3u^2,
- * DW*FP <= 2u^2, DW*DW <= 7u^2, DW/DW <= 15u^2 + 56u^3 relative; the square root one
- * Newton step from sqrt(hi), <= 4u^2 relative.
+ * add, or Veltkamp/Dekker splitting, exact barring overflow and underflow); DW+DW <= 3u^2
+ * (the sloppy sum of two of the same sign too), DW+FP <= 2u^2, DW*FP <= 2u^2, DW*DW <= 7u^2,
+ * DW/FP <= 3u^2, DW/DW <= 15u^2 + 56u^3 relative; the square root one Newton step from
+ * sqrt(hi), <= 4u^2 relative.
  * ======================================================================================== */
 
 typedef struct edmi__dw {
@@ -1760,6 +1761,20 @@ static EDMI__INLINE edmi__dw edmi__dw_add(edmi__dw x, edmi__dw y)
     return edmi__fast_two_sum(v.hi, t.lo + v.lo);
 }
 
+/* x + y, x.hi and y.hi of the same sign (JMP's SloppyDWPlusDW: 11 operations, not 20). */
+static EDMI__INLINE edmi__dw edmi__dw_add_same(edmi__dw x, edmi__dw y)
+{
+    edmi__dw s = edmi__two_sum(x.hi, y.hi);
+    return edmi__fast_two_sum(s.hi, s.lo + (x.lo + y.lo));
+}
+
+/* x + y for a real y (JMP's DWPlusFP). */
+static EDMI__INLINE edmi__dw edmi__dw_add_r(edmi__dw x, edmi_real y)
+{
+    edmi__dw s = edmi__two_sum(x.hi, y);
+    return edmi__fast_two_sum(s.hi, x.lo + s.lo);
+}
+
 static edmi__dw edmi__dw_neg(edmi__dw x)
 {
     x.hi = -x.hi;
@@ -1788,6 +1803,14 @@ static edmi__dw edmi__dw_div(edmi__dw x, edmi__dw y)
     return edmi__fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
 }
 
+/* x / y for a real y (JMP's DWDivFP3). */
+static edmi__dw edmi__dw_div_r(edmi__dw x, edmi_real y)
+{
+    edmi_real th = x.hi / y;
+    edmi__dw p = edmi__two_prod(th, y);
+    return edmi__fast_two_sum(th, (((x.hi - p.hi) - p.lo) + x.lo) / y);
+}
+
 static edmi__dw edmi__dw_sqrt(edmi__dw x)
 {
     edmi_real s;
@@ -1801,12 +1824,12 @@ static edmi__dw edmi__dw_sqrt(edmi__dw x)
 
 static edmi_real edmi__dw_real(edmi__dw x) { return x.hi + x.lo; }
 
-/* |v|^2 of a double-word vector. */
+/* |v|^2 of a double-word vector (a sum of squares: sloppy sums). */
 static edmi__dw edmi__dw_sq3(const edmi__dw v[3])
 {
     edmi__dw s = edmi__dw_mul(v[0], v[0]);
-    s = edmi__dw_add(s, edmi__dw_mul(v[1], v[1]));
-    return edmi__dw_add(s, edmi__dw_mul(v[2], v[2]));
+    s = edmi__dw_add_same(s, edmi__dw_mul(v[1], v[1]));
+    return edmi__dw_add_same(s, edmi__dw_mul(v[2], v[2]));
 }
 
 /* a - b exactly, per component. */
@@ -1817,12 +1840,12 @@ static void edmi__dw_diff3(const edmi_real a[3], const edmi_real b[3], edmi__dw 
     out[2] = edmi__two_sum(a[2], -b[2]);
 }
 
-/* a . b of two real vectors, exactly up to the final double-word roundings. */
-static edmi__dw edmi__dw_dot(const edmi_real a[3], const edmi_real b[3])
+/* |a|^2 of a real vector, exactly up to the final double-word roundings. */
+static edmi__dw edmi__dw_norm2(const edmi_real a[3])
 {
-    edmi__dw s = edmi__two_prod(a[0], b[0]);
-    s = edmi__dw_add(s, edmi__two_prod(a[1], b[1]));
-    return edmi__dw_add(s, edmi__two_prod(a[2], b[2]));
+    edmi__dw s = edmi__two_prod(a[0], a[0]);
+    s = edmi__dw_add_same(s, edmi__two_prod(a[1], a[1]));
+    return edmi__dw_add_same(s, edmi__two_prod(a[2], a[2]));
 }
 
 /* f . (a - b) k^2 with a - b formed exactly and k a power of two (exact). */
@@ -1908,7 +1931,7 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
             *v = edmi__dw_mul_r(s, EDMI__HALF * a);
             m = EDMI__HALF * a * s.hi;
         } else {
-            x = edmi__dw_add(d, edmi__dw_of(-b));
+            x = edmi__dw_add_r(d, -b);
             *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
             m = a * edmi__abs(x.hi) * (edmi__abs(x.hi) + d.hi);
         }
@@ -1919,8 +1942,8 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
         m = a * edmi__abs(x.hi) * (s.hi + b * b);
         break;
     case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
-        x = edmi__dw_add(d, edmi__dw_of(-b));
-        t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add(d, edmi__dw_of(EDMI_R(2.0) * b)));
+        x = edmi__dw_add_r(d, -b);
+        t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add_r(d, EDMI_R(2.0) * b));
         *v = edmi__dw_div(edmi__dw_mul_r(t, a), edmi__dw_mul_r(d, EDMI_R(6.0)));
         m = edmi__abs(v->hi) + a * edmi__abs(x.hi) * (d.hi + EDMI_R(2.0) * b) / EDMI_R(3.0);
         break;
@@ -1928,7 +1951,7 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
         t = edmi__dw_div(edmi__dw_of(b), d);
         t = edmi__dw_mul(t, t);
         t = edmi__dw_mul(edmi__dw_mul(t, t), t);
-        *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add(t, edmi__dw_of(-EDMI__ONE))),
+        *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add_r(t, -EDMI__ONE)),
                             EDMI_R(4.0) * a);
         m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
         break;
@@ -1984,6 +2007,7 @@ typedef struct edmi__balance {
     edmi_real scale;   /* 2^j, j >= 0: momenta and zero-rest-length link vectors are scaled by
                           it, every other energy term twice (both exact; scale^2 itself may
                           exceed the range) */
+    int scheme_on;     /* evaluate scheme (energy_balance) */
 } edmi__balance;
 
 /* The plain (working-precision) evaluation of the step's excess, and the magnitudes the tank's
@@ -2068,7 +2092,7 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
  * works; the sum's own rounding adds (n + 2) eps of its terms. Also the magnitudes of H's
  * terms (S at the end for the tank's capacity, all of them for the scaling) and
  * diss_scheme, both as computed. */
-static edmi_status edmi__plain_excess(const edmi_system *sys, const edmi_workspace *work,
+static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *work,
                                       const edmi_step_result *res, edmi__plain *pl)
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
@@ -2109,7 +2133,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, const edmi_workspa
     }
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
-        const edmi_link_ws *w = &work->lw[j];
+        edmi_link_ws *w = &work->lw[j];
         edmi_real r1[3], d1, v1, m1, dv, ds, e1;
         edmi_pot_parts pp;
         edmi_status st;
@@ -2125,17 +2149,17 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, const edmi_workspa
             d1 = w->have1 ? w->d1 : edmi__norm(r1);
             v1 = w->v1;
             m1 = w->m1;
-            if (!w->have1) {
+            if (!w->have1) { /* kept for edmi__plain_tiny */
                 st = edmi__pot_parts(&lk->pot, d1, &pp);
                 if (st != EDMI_OK)
                     return st;
                 v1 = pp.v[0];
                 m1 = edmi__pot_mag(&pp, d1);
+                w->d1 = d1;
+                w->m1 = m1;
             }
             dv = v1 - w->v0;
-            e1 = EDMI_R(64.0) * EDMI_EPS * (w->m0 + m1) +
-                 edmi__pot_tiny(&lk->pot, w->d0, w->d0 * w->d0, w->m0) +
-                 edmi__pot_tiny(&lk->pot, d1, d1 * d1, m1);
+            e1 = EDMI_R(64.0) * EDMI_EPS * (w->m0 + m1); /* + edmi__plain_tiny */
             ds = (d1 - w->d0) * (d1 + w->d0);
         }
         s1 += m1;
@@ -2165,6 +2189,24 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, const edmi_workspa
     return edmi__finite(s1) && edmi__finite(pl->s_other) ? EDMI_OK : EDMI_ERR_RANGE;
 }
 
+/* The links' underflow allowance the plain certificate adds (edmi__pot_tiny at both ends),
+ * formed only where the certificate holds without it. */
+static edmi_real edmi__plain_tiny(const edmi_system *sys, const edmi_workspace *work)
+{
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    edmi_real t = EDMI__ZERO;
+    int j;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        const edmi_link_ws *w = &work->lw[j];
+        if (lk->pot.kind == EDMI_POT_USER || edmi__link_still(sys, w, lk, q1))
+            continue;
+        t += edmi__pot_tiny(&lk->pot, w->d0, w->d0 * w->d0, w->m0) +
+             edmi__pot_tiny(&lk->pot, w->d1, w->d1 * w->d1, w->m1);
+    }
+    return t * (EDMI__ONE + EDMI_R(4.0) * (edmi_real)sys->n_links * EDMI_EPS);
+}
+
 /* t - e - m rounded down (a lower bound on the exact value): the tank after a step whose
  * excess over the work is at most e + m. Its two roundings err by at most 1.01 eps and the
  * last subtraction by 1.5 eps of A = |t| + |e| + |m|: 4 eps A covers them. */
@@ -2184,6 +2226,14 @@ static edmi_real edmi__tank_after(edmi_real t, edmi_real e, edmi_real m)
  * circular LJ and gravity orbits), a capacity of 16 still removed up to 4x LG's own drift on
  * the spring; 64 removes no more than it, acting on 0.1-0.5 % of steps (README). */
 #define EDMI__TANK_CAP EDMI_R(64.0)
+
+/* Where the guard must move the state, it aims to leave this fraction of the capacity in the
+ * tank (and takes any state within as much of that): 1/32, 2 eps S at the default capacity.
+ * Replaying measured noise through the tank, 10^5 float steps (the spring with PM and LG,
+ * circular LJ and gravity orbits): 20 to 50 times fewer moves than leaving it empty (the
+ * next steps' noise, ~0.1 eps S each, would empty it again), for 1 to 17 % more energy
+ * removed in all. */
+#define EDMI__TANK_LIFT (EDMI_R(1.0) / EDMI_R(32.0))
 
 /* Energies below this are scaled up before the double-word evaluation: there its error bound's
  * underflow allowance (EDMI__DW_TINY times a potential's coefficients) would exceed eps^2 of
@@ -2250,16 +2300,45 @@ static edmi__dw edmi__dw_up2(const edmi__balance *bal, edmi__dw x)
     return edmi__dw_pow2(edmi__dw_pow2(x, bal->scale), bal->scale);
 }
 
+/* V and |r|^2 of a built-in link at one end of the step, from its exact link vector r (changed
+ * in place when scaled), in double-word, with its error bound, in the balance's units. */
+static void edmi__link_v_dw(const edmi_potential *pot, edmi__dw r[3], const edmi__balance *bal,
+                            edmi__dw *s, edmi__dw *v, edmi_real *e)
+{
+    int i, lin = edmi__is_linear(pot);
+    if (lin && bal->scale != EDMI__ONE) /* V = a/2 |r|^2: from the scaled vector */
+        for (i = 0; i < 3; i++)
+            r[i] = edmi__dw_pow2(r[i], bal->scale);
+    *s = edmi__dw_sq3(r);
+    edmi__pot_dw(pot, *s, lin ? *s : edmi__dw_sqrt(*s), v, e); /* linear: no length needed */
+    if (!lin && bal->scale != EDMI__ONE) {
+        *s = edmi__dw_up2(bal, *s);
+        *v = edmi__dw_up2(bal, *v);
+        *e = edmi__up2(bal, *e);
+    }
+}
+
+/* The start of a step is the end of the last one: unless the caller changed the state (or the
+ * workspace served another system), a link's V at d_n was evaluated then. Reused only when the
+ * link's two ends and its potential are exactly the ones it was evaluated for, so that the
+ * result is bit for bit the fresh evaluation's (about half of the double-word work). */
+static int edmi__end_cached(const edmi_link_ws *w, const edmi_potential *pot,
+                            const edmi_real qa[3], const edmi_real xb[3])
+{
+    return w->end_kind == (int)pot->kind && w->end_pot[0] == pot->a &&
+           w->end_pot[1] == pot->b && edmi__same3(w->end_ends, qa) &&
+           edmi__same3(w->end_ends + 3, xb);
+}
+
 /* One link's terms of the balance (stored in its workspace: edmi__delta_v). A link whose ends
  * did not move is skipped: its change is exactly 0 (a body at rest certifies exactly). */
 static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
                                       const edmi_link *lk, const edmi_real (*q1)[3],
                                       const edmi__balance *bal)
 {
-    edmi__dw r0[3], r1[3], s0, s1, d0, d1, v0, v1, dv, ds, sc;
+    edmi__dw r0[3], r1[3], s0, s1, v0, v1, dv, sc;
     edmi_real e0, e1;
     const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
-    int i, lin = edmi__is_linear(&lk->pot);
     w->bal_on = !edmi__link_still(sys, w, lk, q1);
     if (!w->bal_on)
         return EDMI_OK;
@@ -2276,33 +2355,37 @@ static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
         v1 = edmi__dw_of(edmi__up2(bal, mag));
         s0 = s1 = edmi__dw_of(EDMI__ZERO);
     } else {
-        edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
-        edmi__dw_diff3(q1[lk->a], edmi__end_b(lk, w, q1), r1);
-        if (lin && bal->scale != EDMI__ONE) /* V = a/2 |r|^2: from the scaled vectors */
-            for (i = 0; i < 3; i++) {
-                r0[i] = edmi__dw_pow2(r0[i], bal->scale);
-                r1[i] = edmi__dw_pow2(r1[i], bal->scale);
-            }
-        s0 = edmi__dw_sq3(r0);
-        s1 = edmi__dw_sq3(r1);
-        d0 = lin ? s0 : edmi__dw_sqrt(s0); /* the linear spring needs no length */
-        d1 = lin ? s1 : edmi__dw_sqrt(s1);
-        edmi__pot_dw(&lk->pot, s0, d0, &v0, &e0);
-        edmi__pot_dw(&lk->pot, s1, d1, &v1, &e1);
-        dv = edmi__dw_sub(v1, v0);
-        /* the work of f = dt beta r_m over the step, per dt: beta (d_n+1^2 - d_n^2) / 2 */
-        ds = edmi__dw_sub(s1, s0);
-        if (!lin && bal->scale != EDMI__ONE) {
-            dv = edmi__dw_up2(bal, dv);
-            ds = edmi__dw_up2(bal, ds);
-            v0 = edmi__dw_up2(bal, v0);
-            v1 = edmi__dw_up2(bal, v1);
-            s0 = edmi__dw_up2(bal, s0);
-            s1 = edmi__dw_up2(bal, s1);
-            e0 = edmi__up2(bal, e0);
-            e1 = edmi__up2(bal, e1);
+        const edmi_real *b1 = edmi__end_b(lk, w, q1);
+        if (bal->scale == EDMI__ONE && edmi__end_cached(w, &lk->pot, sys->body[lk->a].q, b0)) {
+            s0 = edmi__dw_pair(w->end_s);
+            v0 = edmi__dw_pair(w->end_v);
+            e0 = w->end_e;
+        } else {
+            edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
+            edmi__link_v_dw(&lk->pot, r0, bal, &s0, &v0, &e0);
         }
-        sc = edmi__dw_sub(edmi__dw_mul_r(ds, EDMI__HALF * w->beta), dv);
+        if (bal->scale == EDMI__ONE) { /* what the next step starts from, if it is stored */
+            w->end_kind = (int)lk->pot.kind;
+            w->end_pot[0] = lk->pot.a;
+            w->end_pot[1] = lk->pot.b;
+            edmi__copy3(q1[lk->a], w->end_ends);
+            edmi__copy3(b1, w->end_ends + 3);
+        }
+        edmi__dw_diff3(q1[lk->a], b1, r1);
+        edmi__link_v_dw(&lk->pot, r1, bal, &s1, &v1, &e1);
+        if (bal->scale == EDMI__ONE) {
+            w->end_s[0] = s1.hi;
+            w->end_s[1] = s1.lo;
+            w->end_v[0] = v1.hi;
+            w->end_v[1] = v1.lo;
+            w->end_e = e1;
+        }
+        dv = edmi__dw_sub(v1, v0);
+        /* the scheme's dissipation (energy_balance): the work of f = dt beta r_m over the
+         * step, per dt, beta (d_n+1^2 - d_n^2) / 2, less dv */
+        sc = bal->scheme_on
+                 ? edmi__dw_sub(edmi__dw_mul_r(edmi__dw_sub(s1, s0), EDMI__HALF * w->beta), dv)
+                 : edmi__dw_of(EDMI__ZERO);
     }
     w->bal_dv[0] = dv.hi;
     w->bal_dv[1] = dv.lo;
@@ -2338,7 +2421,8 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         bal->dv = edmi__dw_add(bal->dv, edmi__dw_pair(w->bal_dv));
         bal->err_v += w->bal_err;
         bal->size_v += w->bal_size;
-        bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_pair(w->bal_sc));
+        if (bal->scheme_on)
+            bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_pair(w->bal_sc));
     }
     if (sys->has_field) /* V = -sum (M 1)_a g . q_a, each mass entry exact */
         for (a = 0; a < sys->n_bodies; a++) {
@@ -2496,15 +2580,14 @@ static void edmi__delta_k(const edmi_system *sys, edmi_workspace *work, const ed
         edmi__delta_k_coupled(sys, work, p1, bal);
         return;
     }
-#else
-    (void)work;
 #endif
     bal->dk = edmi__dw_of(EDMI__ZERO);
     bal->err_k = EDMI__ZERO;
     bal->size_k = EDMI__ZERO;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
-        edmi__dw s1, s0, m2;
+        edmi__dw s1, s0;
+        edmi_real m2;
         edmi_real x1[3], x0[3];
         int i;
         if (edmi__same3(p1[a], bd->p))
@@ -2513,13 +2596,21 @@ static void edmi__delta_k(const edmi_system *sys, edmi_workspace *work, const ed
             x1[i] = p1[a][i] * bal->scale;
             x0[i] = bd->p[i] * bal->scale;
         }
-        s1 = edmi__dw_dot(x1, x1);
-        s0 = edmi__dw_dot(x0, x0);
-        m2 = edmi__dw_of(EDMI_R(2.0) * bd->m);
-        bal->dk = edmi__dw_add(bal->dk, edmi__dw_div(edmi__dw_sub(s1, s0), m2));
-        bal->size_k += (s1.hi + s0.hi) / m2.hi;
-        bal->err_k += EDMI__DW_ERR * (s1.hi + s0.hi) / m2.hi + EDMI__DW_TINY / m2.hi +
-                      EDMI__DW_TINY;
+        s1 = edmi__dw_norm2(x1);
+        /* |p_n|^2 as the last step evaluated it at its end (edmi__end_cached) */
+        if (bal->scale == EDMI__ONE && edmi__same3(work->kend[a], bd->p))
+            s0 = edmi__dw_pair(work->kend[a] + 3);
+        else
+            s0 = edmi__dw_norm2(x0);
+        if (bal->scale == EDMI__ONE) {
+            edmi__copy3(p1[a], work->kend[a]);
+            work->kend[a][3] = s1.hi;
+            work->kend[a][4] = s1.lo;
+        }
+        m2 = EDMI_R(2.0) * bd->m;
+        bal->dk = edmi__dw_add(bal->dk, edmi__dw_div_r(edmi__dw_sub(s1, s0), m2));
+        bal->size_k += (s1.hi + s0.hi) / m2;
+        bal->err_k += EDMI__DW_ERR * (s1.hi + s0.hi) / m2 + EDMI__DW_TINY / m2 + EDMI__DW_TINY;
     }
 }
 
@@ -2994,6 +3085,7 @@ typedef struct edmi__aim {
     edmi_real tank;      /* T_n: the step is certified when e + margin <= tank */
     edmi_real goal, hi;  /* the K change sought, and the largest one that settles the step */
     edmi_real tol;       /* how close to goal is close enough (0: the search's own window) */
+    edmi_real lift;      /* what a move leaves in the tank, about (EDMI__TANK_LIFT) */
     edmi_real strict;    /* how far below the tank the guard keeps the excess (tank_cap 0) */
 } edmi__aim;
 
@@ -3005,7 +3097,7 @@ static int edmi__reaim(const edmi_system *sys, edmi_workspace *work, edmi__balan
     if (!edmi__excess(bal, &t->e, &t->margin))
         return 0;
     t->hi = t->tank - t->e - t->margin - t->strict;
-    t->goal = t->hi - t->strict; /* about the least change that settles the step */
+    t->goal = t->hi - t->strict - t->lift; /* about the least change that settles the step */
     return 1;
 }
 
@@ -3216,7 +3308,7 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     edmi_real after;
     int n, k[3], i;
     t.tank = edmi__up2(bal, sys->tank);
-    t.strict = t.tol = EDMI__ZERO;
+    t.strict = t.tol = t.lift = EDMI__ZERO;
     if (!edmi__reaim(sys, work, bal, &t))
         return EDMI_ERR_PASSIVITY;
     if (!(sys->params.tank_cap > EDMI__ZERO)) {
@@ -3227,6 +3319,9 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     }
     h_newton = edmi__dw_add(bal->dv, bal->dk);
     if (!edmi__settled(&t)) {
+        /* leave a little in the tank: the next steps' noise then rarely needs a move */
+        t.lift = t.tol = edmi__up2(bal, cap) * EDMI__TANK_LIFT;
+        t.goal = t.hi - t.strict - t.lift;
         /* at the bottom of the range (scaled) the search's working-precision model of the
          * candidates' energies underflows: only the last move applies */
         if (bal->scale == EDMI__ONE && edmi__guard_moves(sys, work, bal, &t, res) < 0)
@@ -3388,6 +3483,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
             return EDMI_ERR_RANGE;
     }
     edmi__set_scale(&bal, xh, so);
+    bal.scheme_on = 0;
     st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
     if (st != EDMI_OK)
         return EDMI_ERR_PASSIVITY;
@@ -3450,7 +3546,8 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         return st;
     cap = guard ? sys->params.tank_cap * EDMI_EPS * pl.s1 : EDMI__ZERO;
     res->tank_cap = cap < EDMI_REAL_MAX ? cap : EDMI_REAL_MAX;
-    if (guard && !exact && pl.ok && edmi__tank_after(sys->tank, pl.e, pl.m) >= cap) {
+    if (guard && !exact && pl.ok && edmi__tank_after(sys->tank, pl.e, pl.m) >= cap &&
+        edmi__tank_after(sys->tank, pl.e, pl.m + edmi__plain_tiny(sys, work)) >= cap) {
         res->certificate = EDMI_CERT_PLAIN;
         res->tank = res->tank_cap;
         res->dh = pl.e + (res->work_ext + res->work_anchor);
@@ -3459,10 +3556,11 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
     }
     edmi__set_scale(&bal, pl.x_hom, pl.s_other + sys->tank);
     bal.w = edmi__dw_up2(&bal, bal.w);
+    bal.scheme_on = exact;
     st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
     if (st != EDMI_OK)
         return st;
-    res->diss_scheme = edmi__down2(&bal, edmi__dw_real(bal.scheme));
+    res->diss_scheme = exact ? edmi__down2(&bal, edmi__dw_real(bal.scheme)) : pl.scheme;
     if (!edmi__finite(res->diss_scheme) || !edmi__finite(edmi__dw_real(bal.dv)))
         return EDMI_ERR_RANGE; /* a link energy (|r|^2, V) beyond the range */
     res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;

@@ -408,8 +408,12 @@ typedef struct edmi_link_ws {
     /* the link's terms of the step's energy balance: V change and scheme work (value and
      * error of each as a double-word pair), error bound, size; bal_on: any end moved */
     edmi_real bal_dv[2], bal_sc[2], bal_err, bal_size;
+    /* at the end of the last balance: the link's two ends, the potential's parameters,
+     * |r|^2 and V (double-word) and V's error bound, reused when the next step starts there */
+    edmi_real end_ends[6], end_pot[2], end_s[2], end_v[2], end_e;
     int bal_on;
     int have1;
+    int end_kind;
 } edmi_link_ws;
 
 /** A scene as plain constant data (it can live in flash): the bodies, links and dampers
@@ -443,6 +447,7 @@ typedef struct edmi_workspace {
     edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_DAMPER_SLOTS_][9]; /* damper tangent blocks */
+    edmi_real kend[EDMI_MAX_BODIES][5];  /* p and |p|^2 (double-word) at the last balance's end */
     int row[3 * EDMI_MAX_BODIES];      /* the Newton matrix's row offsets */
     int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
     int n_pair;

@@ -31,11 +31,12 @@
  *                                                                (G = EDMI_MAX_MASS_GAP, 0 by
  *                                                                default), tank, link_force[L][3]
  *     sizeof(edmi_system) = up(s, RP)
- *   edmi_link_ws   = up(34R + 8, R)     r0[3], 12 scalars, x1[3], f[3], gamma, rm[3], u[3],
- *                                       the balance's 6 reals, bal_on, have1
- *   edmi_workspace = up((M + 21N + 9D) R + L*edmi_link_ws + 4(6N + L + 3), R)
+ *   edmi_link_ws   = up(47R + 12, R)    r0[3], 12 scalars, x1[3], f[3], gamma, rm[3], u[3],
+ *                                       the balance's 6 reals and the 13 of its cached end,
+ *                                       bal_on, have1, end_kind
+ *   edmi_workspace = up((M + 26N + 9D) R + L*edmi_link_ws + 4(6N + L + 3), R)
  *                    reals, lw[L], then the ints row[3N], order[L], n_pair, piv[3N], kb, upper
- * The 21N reals are q1, p1, rq, rp, dp, rhs (3 each) and sq, sp, h (1 each); M =
+ * The 26N reals are q1, p1, rq, rp, dp, rhs (3 each), sq, sp, h (1 each) and kend (5); M =
  * EDMI_MAX_MATRIX (default 9N^2) is the Newton matrix; 9 reals per damper its tangent block. */
 #include "../edmi.h"
 
@@ -63,25 +64,25 @@
 #define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G + TGT_R)
 #define TGT_SYSTEM TGT_UP(TGT_S6, TGT_RP)
 #define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
-#define TGT_LINK_WS TGT_UP(34u * TGT_R + 8u, TGT_R)
+#define TGT_LINK_WS TGT_UP(47u * TGT_R + 12u, TGT_R)
 #define TGT_WORKSPACE                                                                         \
-    TGT_UP((TGT_M + 21u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                  \
+    TGT_UP((TGT_M + 26u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                  \
                4u * (6u * TGT_N + TGT_L + 3u),                                                \
            TGT_R)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
  * K + R M + b N + l L + d D + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
- *   float:  K = 96 with 1-byte enums (arm-none-eabi), 104 with 4-byte ones; b = 152, d = 44;
- *           l = 220 with 4-byte pointers, 240 with 8-byte ones; pad = 0 with 4-byte
+ *   float:  K = 96 with 1-byte enums (arm-none-eabi), 104 with 4-byte ones; b = 172, d = 44;
+ *           l = 276 with 4-byte pointers, 296 with 8-byte ones; pad = 0 with 4-byte
  *           pointers, else 4 when N is even (alignment of link[] after body[N]) + 4 when
  *           L + N G is odd (the system's tail, rounded up to the pointers' 8)
- *   double: K = 156 with 1-byte enums, 164 with 4-byte ones; b = 276, d = 88;
- *           l = 408 with 4-byte pointers, 416 with 8-byte ones; pad = 4 when N is even (the
+ *   double: K = 156 with 1-byte enums, 164 with 4-byte ones; b = 316, d = 88;
+ *           l = 520 with 4-byte pointers, 528 with 8-byte ones; pad = 4 when N is even (the
  *           int array forced[N] before force[N][3]) + 8 when L is even (the int arrays
  *           moving[L] before anchor_next[L][3], and the workspace's int tail rounded up to 8) */
 #define TGT_CLOSED_K ((TGT_R == 4u ? 96u : 156u) + (TGT_E == 4u ? 8u : 0u))
-#define TGT_CLOSED_B (TGT_R == 4u ? 152u : 276u)
-#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 220u : 408u) : (TGT_R == 4u ? 240u : 416u))
+#define TGT_CLOSED_B (TGT_R == 4u ? 172u : 316u)
+#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 276u : 520u) : (TGT_R == 4u ? 296u : 528u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_PAD                                                                      \
     (TGT_R == 8u   ? (TGT_N % 2u == 0u ? 4u : 0u) + (TGT_L % 2u == 0u ? 8u : 0u)             \
