@@ -1775,22 +1775,22 @@ static EDMI__INLINE edmi__dw edmi__dw_add_r(edmi__dw x, edmi_real y)
     return edmi__fast_two_sum(s.hi, x.lo + s.lo);
 }
 
-static edmi__dw edmi__dw_neg(edmi__dw x)
+static EDMI__INLINE edmi__dw edmi__dw_neg(edmi__dw x)
 {
     x.hi = -x.hi;
     x.lo = -x.lo;
     return x;
 }
 
-static edmi__dw edmi__dw_sub(edmi__dw x, edmi__dw y) { return edmi__dw_add(x, edmi__dw_neg(y)); }
+static EDMI__INLINE edmi__dw edmi__dw_sub(edmi__dw x, edmi__dw y) { return edmi__dw_add(x, edmi__dw_neg(y)); }
 
-static edmi__dw edmi__dw_mul_r(edmi__dw x, edmi_real y)
+static EDMI__INLINE edmi__dw edmi__dw_mul_r(edmi__dw x, edmi_real y)
 {
     edmi__dw c = edmi__two_prod(x.hi, y), t = edmi__fast_two_sum(c.hi, x.lo * y);
     return edmi__fast_two_sum(t.hi, t.lo + c.lo);
 }
 
-static edmi__dw edmi__dw_mul(edmi__dw x, edmi__dw y)
+static EDMI__INLINE edmi__dw edmi__dw_mul(edmi__dw x, edmi__dw y)
 {
     edmi__dw c = edmi__two_prod(x.hi, y.hi);
     return edmi__fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
@@ -2016,10 +2016,6 @@ typedef struct edmi__plain {
     edmi_real e, m;    /* H_n+1 - H_n - work as computed, and a bound on its error */
     edmi_real scheme;  /* diss_scheme as computed */
     edmi_real s1;      /* the magnitude S of H's terms at the step's end (the tank's capacity) */
-    edmi_real s_other; /* the magnitude of the other terms at both ends and of the works */
-    edmi_real x_hom;   /* the largest momentum component and zero-rest-length link vector
-                          component at either end: what the terms homogeneous of degree two
-                          in them (K, k/2 |r|^2) are formed from */
     int ok;            /* e and m hold (not with a coupled M: its K needs a solve) */
 } edmi__plain;
 
@@ -2097,9 +2093,8 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
     const edmi_real (*p1)[3] = (const edmi_real (*)[3])work->p1;
-    edmi_real e = EDMI__ZERO, sum = EDMI__ZERO, err = EDMI__ZERO, so = EDMI__ZERO;
+    edmi_real e = EDMI__ZERO, sum = EDMI__ZERO, err = EDMI__ZERO;
     edmi_real s1 = EDMI__ZERO, sch = EDMI__ZERO, gn = sys->has_field ? edmi__norm(sys->g) : EDMI__ZERO;
-    edmi_real xh = EDMI__ZERO;
     int a, i, j, n = 2;
     pl->ok = !EDMI__COUPLED(sys);
     for (a = 0; a < sys->n_bodies; a++) {
@@ -2109,7 +2104,6 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
             edmi_real d = p1[a][i] - bd->p[i], s = p1[a][i] + bd->p[i];
             t += d * s;
             mag += edmi__abs(d) * edmi__abs(s);
-            xh = edmi__max(xh, edmi__max(edmi__abs(p1[a][i]), edmi__abs(bd->p[i])));
         }
         e += t / m2;
         sum += mag / m2;
@@ -2125,7 +2119,6 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
             e -= fv;
             sum += m * mag;
             err += EDMI_R(8.0) * EDMI_EPS * m * mag + EDMI__DW_TINY * (EDMI__ONE + m);
-            so += m * gn * (edmi__norm(bd->q) + edmi__norm(q1[a]));
             s1 += m * gn * edmi__norm(q1[a]);
             n++;
         }
@@ -2137,19 +2130,18 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
         edmi_real r1[3], d1, v1, m1, dv, ds, e1;
         edmi_pot_parts pp;
         edmi_status st;
-        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
-        if (edmi__is_linear(&lk->pot))
-            for (i = 0; i < 3; i++)
-                xh = edmi__max(xh, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
         if (lk->pot.kind == EDMI_POT_USER) {
             st = edmi__user_dv(sys, w, lk, q1, &dv, &e1, &ds, &m1);
             if (st != EDMI_OK)
                 return st;
+            w->m1 = m1; /* for edmi__scale_inputs */
         } else {
-            d1 = w->have1 ? w->d1 : edmi__norm(r1);
             v1 = w->v1;
             m1 = w->m1;
+            d1 = w->d1;
             if (!w->have1) { /* kept for edmi__plain_tiny */
+                edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+                d1 = edmi__norm(r1);
                 st = edmi__pot_parts(&lk->pot, d1, &pp);
                 if (st != EDMI_OK)
                     return st;
@@ -2163,8 +2155,6 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
             ds = (d1 - w->d0) * (d1 + w->d0);
         }
         s1 += m1;
-        if (!edmi__is_linear(&lk->pot))
-            so += w->m0 + m1;
         if (edmi__link_still(sys, w, lk, q1))
             continue; /* exactly 0 */
         e += dv;
@@ -2182,11 +2172,41 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
     pl->e = e;
     pl->scheme = sch;
     pl->s1 = s1;
-    pl->s_other = so + edmi__abs(res->work_ext) + edmi__abs(res->work_anchor);
-    pl->x_hom = xh;
     if (!edmi__finite(pl->m) || !edmi__finite(e))
         pl->ok = 0;
-    return edmi__finite(s1) && edmi__finite(pl->s_other) ? EDMI_OK : EDMI_ERR_RANGE;
+    return edmi__finite(s1) ? EDMI_OK : EDMI_ERR_RANGE;
+}
+
+/* What edmi__set_scale needs for the step's double-word evaluation: the largest momentum
+ * component and zero-rest-length link vector component at either end (*x, what the terms
+ * homogeneous of degree two, K and k/2 |r|^2, are formed from), and the magnitude of the
+ * other terms at both ends, the works and the tank (*so). */
+static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *work,
+                               const edmi_step_result *res, edmi_real *x, edmi_real *so)
+{
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    edmi_real gn = sys->has_field ? edmi__norm(sys->g) : EDMI__ZERO;
+    int a, i, j;
+    *x = EDMI__ZERO;
+    *so = sys->tank + edmi__abs(res->work_ext) + edmi__abs(res->work_anchor);
+    for (a = 0; a < sys->n_bodies; a++) {
+        for (i = 0; i < 3; i++)
+            *x = edmi__max(*x, edmi__max(edmi__abs(work->p1[a][i]), edmi__abs(sys->body[a].p[i])));
+        *so += edmi__abs(edmi__mass_row(sys, a)) * gn *
+               (edmi__norm(sys->body[a].q) + edmi__norm(q1[a]));
+    }
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        const edmi_link_ws *w = &work->lw[j];
+        edmi_real r1[3];
+        if (!edmi__is_linear(&lk->pot)) {
+            *so += w->m0 + w->m1;
+            continue;
+        }
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        for (i = 0; i < 3; i++)
+            *x = edmi__max(*x, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
+    }
 }
 
 /* The links' underflow allowance the plain certificate adds (edmi__pot_tiny at both ends),
@@ -3317,8 +3337,8 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
             t.strict = EDMI__ZERO;
         t.hi -= t.strict;
     }
-    h_newton = edmi__dw_add(bal->dv, bal->dk);
     if (!edmi__settled(&t)) {
+        h_newton = edmi__dw_add(bal->dv, bal->dk);
         /* leave a little in the tank: the next steps' noise then rarely needs a move */
         t.lift = t.tol = edmi__up2(bal, cap) * EDMI__TANK_LIFT;
         t.goal = t.hi - t.strict - t.lift;
@@ -3533,7 +3553,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
 {
     edmi__balance bal;
     edmi__plain pl;
-    edmi_real cap;
+    edmi_real cap, x, so;
     edmi_status st = edmi__step_work(sys, work, dt, res, &bal);
     int guard = edmi__guard_on(&sys->params), exact = sys->params.energy_balance;
     if (st == EDMI_OK && !(edmi__finite(res->work_ext) && edmi__finite(res->work_anchor) &&
@@ -3554,7 +3574,10 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         res->diss_scheme = pl.scheme;
         return EDMI_OK;
     }
-    edmi__set_scale(&bal, pl.x_hom, pl.s_other + sys->tank);
+    x = so = EDMI_REAL_MAX;
+    if (pl.s1 < EDMI__SCALE_BELOW) /* every term small at the end: perhaps at both ends */
+        edmi__scale_inputs(sys, work, res, &x, &so);
+    edmi__set_scale(&bal, x, so);
     bal.w = edmi__dw_up2(&bal, bal.w);
     bal.scheme_on = exact;
     st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);

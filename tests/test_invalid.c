@@ -169,7 +169,7 @@ static void ti_status_names(void)
 
 static void ti_params(void)
 {
-    edmi_params def = edmi_default_params(), bad[20], good;
+    edmi_params def = edmi_default_params(), bad[24], good;
     edmi_real nan = ti_nan(), inf = ti_inf();
     int nb = 0, i;
 
@@ -177,7 +177,7 @@ static void ti_params(void)
     CHECK_STATUS(edmi_init(0, &def), EDMI_ERR_NULL);
     CHECK_STATUS(edmi_set_params(0, &def), EDMI_ERR_NULL);
 
-    for (i = 0; i < 20; i++)
+    for (i = 0; i < 24; i++)
         bad[i] = def;
     bad[nb++].tol_r = EDMI_R(-1e-10);
     bad[nb++].tol_r = nan;
@@ -195,6 +195,9 @@ static void ti_params(void)
     bad[nb++].lg_alt = (edmi_lg_alt)5;
     bad[nb++].guard = (edmi_guard_mode)3;
     bad[nb++].guard = (edmi_guard_mode)-1;
+    bad[nb++].tank_cap = EDMI_R(-1.0);
+    bad[nb++].tank_cap = nan;
+    bad[nb++].tank_cap = inf;
 
     if (!CHECK(ti_build(EDMI_PM)))
         return;
@@ -387,6 +390,22 @@ static void ti_step_input(void)
             TI_STEP_INPUT(dt, EDMI_ERR_NONFINITE);
             *p = save;
         }
+    /* The tank: a corrupted value is refused, edmi_set_tank validates before it writes. */
+    save = ti_sys.tank;
+    ti_sys.tank = nan;
+    TI_STEP_INPUT(dt, EDMI_ERR_NONFINITE);
+    ti_sys.tank = inf;
+    TI_STEP_INPUT(dt, EDMI_ERR_NONFINITE);
+    ti_sys.tank = EDMI_R(-1e-30);
+    TI_STEP_INPUT(dt, EDMI_ERR_PARAM);
+    ti_sys.tank = save;
+    CHECK_STATUS(edmi_set_tank(0, EDMI_R(0.0)), EDMI_ERR_NULL);
+    TI_EXPECT(edmi_set_tank(&ti_sys, nan), EDMI_ERR_NONFINITE);
+    TI_EXPECT(edmi_set_tank(&ti_sys, -inf), EDMI_ERR_NONFINITE);
+    TI_EXPECT(edmi_set_tank(&ti_sys, EDMI_R(-1.0)), EDMI_ERR_PARAM);
+    CHECK_STATUS(edmi_set_tank(&ti_sys, EDMI_R(2.5)), EDMI_OK);
+    CHECK(ti_sys.tank == EDMI_R(2.5));
+    CHECK_STATUS(edmi_set_tank(&ti_sys, save), EDMI_OK);
     /* A mass corrupted after adding. */
     for (a = 0; a < 3; a++) {
         save = ti_sys.body[a].m;

@@ -236,6 +236,10 @@ static edmi_params fz_params(fz_in *in)
         p.l_max = (int)(fz_u8(in) % 40u) - 2;
     if ((s & 0xf0u) == 0xf0u) /* an out-of-range enum */
         p.guard = (edmi_guard_mode)7;
+    else if ((s & 0x30u) == 0x10u) /* no tank: the per-step inequality */
+        p.tank_cap = (edmi_real)0;
+    else if ((s & 0x30u) == 0x20u) /* any capacity, invalid ones too */
+        p.tank_cap = fz_real(in);
     return p;
 }
 
@@ -343,13 +347,22 @@ static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_rea
     }
     if (!(res->diss_damping >= 0))
         fz_fail("negative damper dissipation", "edmi_step", EDMI_OK);
+    if (res->tank != s1->tank || (int)res->certificate < (int)EDMI_CERT_NONE ||
+        (int)res->certificate > (int)EDMI_CERT_SCALED)
+        fz_fail("tank or certificate not as reported", "edmi_step", EDMI_OK);
+    if (!fz_guard_on(&s0->params) && s1->tank != s0->tank)
+        fz_fail("tank changed with the guard off", "edmi_step", EDMI_OK);
+    if (fz_guard_on(&s0->params) &&
+        !(s1->tank >= 0 && s1->tank <= res->tank_cap && fz_finite(res->tank_cap)))
+        fz_fail("tank negative or above its capacity", "edmi_step", EDMI_OK);
     if (!fz_guard_on(&s0->params) || fz_has_user(s0))
         return;
     if (!tp_delta_h(s0, s1, res, &d))
         fz_fail("stored state cannot be evaluated in long double", "edmi_step", EDMI_OK);
     if (d.dh - d.w > d.err) {
-        fprintf(stderr, "dH = %.21Lg, work = %.21Lg, bound %.3Lg\n", d.dh, d.w, d.err);
-        fz_fail("passivity: H rose by more than the work", "edmi_step", EDMI_OK);
+        fprintf(stderr, "dH = %.21Lg, work + T_n - T_n+1 = %.21Lg, bound %.3Lg\n", d.dh, d.w,
+                d.err);
+        fz_fail("passivity: H rose by more than the work and the tank", "edmi_step", EDMI_OK);
     }
 }
 
@@ -360,11 +373,12 @@ static void fz_print_sys(const edmi_system *s, edmi_real dt)
 {
     int a, j;
     fprintf(stderr, "step dt=%.9g t=%.9g scheme=%d guard=%d lg_form=%d alt=%d tol_q=%g "
-                    "tol_r=%g tol_a=%g l_max=%d fallback=%d eb=%d\n",
+                    "tol_r=%g tol_a=%g l_max=%d fallback=%d eb=%d tank_cap=%g tank=%.9g\n",
             (double)dt, (double)s->t, (int)s->params.scheme, (int)s->params.guard,
             (int)s->params.lg_form, (int)s->params.lg_alt, (double)s->params.tol_q,
             (double)s->params.tol_r, (double)s->params.tol_a, s->params.l_max,
-            s->params.fallback, s->params.energy_balance);
+            s->params.fallback, s->params.energy_balance, (double)s->params.tank_cap,
+            (double)s->tank);
     for (a = 0; a < s->n_bodies; a++)
         fprintf(stderr, "  body %d m=%.9g q=(%.9g %.9g %.9g) p=(%.9g %.9g %.9g)\n", a,
                 (double)s->body[a].m, (double)s->body[a].q[0], (double)s->body[a].q[1],
@@ -601,6 +615,10 @@ static void fz_op_build(fz_in *in, int *n_user)
                                     fz_index(in, fz_sys.n_bodies), fz_real(in));
         break;
     default:
+        if (v[0] < (edmi_real)0) { /* the tank: any value, invalid ones too */
+            st = edmi_set_tank(&fz_sys, v[1]);
+            break;
+        }
         prm = fz_params(in);
         st = edmi_init(&fz_sys, (fz_u8(in) & 1u) ? &prm : 0);
         break;
