@@ -11,6 +11,8 @@
 #                   sizes, capacity table and external references (port/target.mk)
 #   make study      what accuracy costs: error against instructions, every scheme and its peers
 #                   (examples/sim.mk, examples/study/)
+#   make orbits     does the passivity guard steer conservative orbits? drifts of H, J and the
+#                   radius, guarded PM against PM guard off, MP and LG (examples/orbits.c)
 #   make cmake-check  the CMake target `edmi` in a consumer project, host and Cortex-M4F
 #   make clean
 # Override on the command line: make CC=clang CFLAGS='-O3' EDMI_REAL=float BUILD=out

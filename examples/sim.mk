@@ -13,6 +13,10 @@
 #                       (wall time), then examples/bench_cost.sh: callgrind instructions per
 #                       step, per correction and per link, and against velocity Verlet
 #   make guard-cost     the passivity guard's host cost, callgrind (examples/guard_cost.c)
+#   make orbits         does the guard steer conservative orbits? examples/orbits.c in both
+#                       precisions: PM with and without its guard, MP and LG on circular LJ
+#                       and gravity orbits, drifts of H, J and r against a long-double truth;
+#                       one markdown table (about 30 s on one core)
 #   make study          what accuracy costs in time (examples/study/): every scheme, velocity
 #                       Verlet, semi-implicit Euler and GSL's rk2imp, rk4imp and rk4 on five
 #                       scenes; errors against a converged reference, callgrind instructions,
@@ -45,7 +49,7 @@ SIM_OPT ?= -O3
 # apart: every object of theirs is built with the same capacity.
 SIM_CAP := -DEDMI_MAX_MASS_GAP=2
 
-.PHONY: sim test-scene run-examples plots bench guard-cost haptic study
+.PHONY: sim test-scene run-examples plots bench guard-cost orbits haptic study
 
 all: $(SIM_BIN) $(SIM_TEST)
 sim: $(SIM_BIN) $(SIM_TEST)
@@ -138,6 +142,17 @@ guard-cost: $(GC_DIR)/guard_cost-float $(GC_DIR)/guard_cost-double
 	        printf "%-6s PM guard on %7.0f, guard off %7.0f, velocity Verlet %4.0f instructions/step; on/off %.2f\n", \
 	        r, on/1000, off/1000, vv/1000, on/off}'; \
 	done
+
+# The guard on conservative orbits (examples/orbits.c): both precisions at -O2 against edmi.c,
+# one table (the float rows, then the double rows).
+ORB_DIR := $(BUILD)/orbits
+$(ORB_DIR)/orbits-%: examples/orbits.c edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* -I. examples/orbits.c edmi.c -o $@ $(LDLIBS)
+
+orbits: $(ORB_DIR)/orbits-float $(ORB_DIR)/orbits-double
+	$(ORB_DIR)/orbits-float
+	$(ORB_DIR)/orbits-double --no-header
 
 # ---- the work-precision study (examples/study/) ----------------------------------------------
 # GSL (Debian: libgsl-dev) for its odeiv2 steppers and the reference; valgrind; gnuplot.

@@ -14,5 +14,6 @@ void suite_solver(void);     /* test_solver.c: banded solve vs body numbering, b
 void suite_effects(void);    /* test_effects.c: field, dampers, ports, energy balance, scenes */
 void suite_guard(void);      /* test_guard.c: passivity on stored states, d = 0, moving anchors */
 void suite_track(void);      /* test_track.c: float tracks the double reference; schemes differ */
+void suite_orbits(void);     /* test_orbits.c: the guard does not steer circular orbits */
 
 #endif

@@ -18,5 +18,6 @@ int main(void)
     suite_effects();
     suite_guard();
     suite_track();
+    suite_orbits();
     return th_finish() == 0 ? 0 : 1;
 }
