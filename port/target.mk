@@ -1,14 +1,17 @@
 # port/target.mk: cross builds, emulated-target tests and measurements.
 # Included at the end of the top-level Makefile with `include port/target.mk`; uses its
-# CC, STRICT, LIBFLAGS, BUILD, ARM_CC, ARM_NM, ARM_SIZE, MASS_CFG and defines only TGT_* names.
+# CC, STRICT, LIBFLAGS, BUILD, ARM_CC, ARM_NM, ARM_SIZE, MASS_CFG, MASS_SPD_CFG and defines only
+# TGT_* names.
 #
 #   make cross          (adds to it) edmi.c for Cortex-M4F (float), Cortex-M7 (double),
 #                       Cortex-M0+ (soft float) and RISC-V rv32imac (-nostdlib): external-
 #                       reference checks, a link of port/fw_min.c that must leave nothing
 #                       undefined, the size table per target and the size per capacity setting
 #   make test-target    the unit test suite on QEMU mps2-an386 (Cortex-M4F, EDMI_REAL=float)
-#                       and mps2-an500 (Cortex-M7, double), and tests/mass_matrix.c built
-#                       with the general mass matrix (MASS_CFG); last line "N passed, N failed"
+#                       and mps2-an500 (Cortex-M7, double), tests/mass_matrix.c built
+#                       with the general mass matrix (MASS_CFG) and tests/mass_spd.c with
+#                       every pair of 4 bodies coupled (MASS_SPD_CFG); last line "N passed,
+#                       N failed"
 #   make bench-target   instructions per step (mean and worst), Newton iterations per step,
 #                       stack high-water mark of edmi_step, the pieces and bound of a step's
 #                       worst case and forced fallback steps, on QEMU with -icount shift=0
@@ -170,6 +173,7 @@ TGT_PORT_HDR := $(wildcard port/cortex-m/*.h)
 TGT_TEST_SRC = $(sort tests/harness.c tests/target_io.c $(wildcard tests/test_*.c tests/scenes.c tests/passive.c))
 TGT_TEST_HDR = $(wildcard tests/*.h) examples/haptic_hand.h
 TGT_MASS_SRC = tests/mass_matrix.c tests/harness.c tests/passive.c tests/target_io.c
+TGT_MASS_SPD_SRC = tests/mass_spd.c tests/harness.c tests/target_io.c
 
 # $(1) = board. Objects of the board's programs in $(TGT)/$(1)/.
 define tgt_board_rules
@@ -222,6 +226,19 @@ $(TGT)/$(1)-mass/mass_tests.elf: $(TGT)/$(1)-mass/edmi.o $$(TGT_RT_$(1)) \
 		$$(patsubst tests/%.c,$(TGT)/$(1)-mass/tests-%.o,$$(TGT_MASS_SRC)) $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
+# tests/mass_spd.c: every object built with MASS_SPD_CFG
+$(TGT)/$(1)-spd/edmi.o: edmi.c edmi.h
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(LIBFLAGS) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_LIB_OPT) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_SPD_CFG) -c $$< -o $$@
+$(TGT)/$(1)-spd/tests-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_SPD_CFG) -c $$< -o $$@
+$(TGT)/$(1)-spd/mass_spd.elf: $(TGT)/$(1)-spd/edmi.o $$(TGT_RT_$(1)) \
+		$$(patsubst tests/%.c,$(TGT)/$(1)-spd/tests-%.o,$$(TGT_MASS_SPD_SRC)) $(TGT_LD)
+	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
 $(TGT)/$(1)/smoke-%.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-smoke_%.o \
 		$(TGT)/$(1)/tests-harness.o $(TGT)/$(1)/tests-target_io.o $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
@@ -231,10 +248,12 @@ $(foreach b,$(TGT_BOARDS),$(eval $(call tgt_board_rules,$(b))))
 
 TGT_RUN = TGT_TIMEOUT=$(TGT_TIMEOUT) TGT_QEMU=$(TGT_QEMU) bash port/run_qemu.sh
 
-test-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/edmi_tests.elf $(TGT)/$(b)-mass/mass_tests.elf)
+test-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/edmi_tests.elf $(TGT)/$(b)-mass/mass_tests.elf \
+		$(TGT)/$(b)-spd/mass_spd.elf)
 	EDMI_TEST_TIMEOUT=$$(($(TGT_TIMEOUT) + 30)) bash tests/run_all.sh \
 	    $(foreach b,$(TGT_BOARDS),'$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/edmi_tests.elf' \
-	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-mass/mass_tests.elf')
+	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-mass/mass_tests.elf' \
+	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-spd/mass_spd.elf')
 
 # The benchmark once more on the Cortex-M4F for a one-body capacity (EDMI_MAX_BODIES, _LINKS,
 # _DAMPERS = 1): its bound is that of the smallest build. Same start-up objects.
