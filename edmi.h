@@ -256,7 +256,7 @@ typedef struct edmi_params {
     edmi_real tank_cap;  /*!< the energy tank's capacity in units of EDMI_EPS times the
                               magnitude of H's terms at the step's end (res.tank_cap): over any
                               window of steps H rises by at most the work plus the tank's
-                              level at its start. 64 by default; 0 is the per-step guarantee
+                              level at its start. 256 by default; 0 is the per-step guarantee
                               H_n+1 - H_n <= work (README, "Energy-safe stepping") */
     int fallback;        /*!< non-zero: a step whose Newton solve fails (l_max reached,
                               diverged, singular) stores the fallback state instead of

@@ -28,7 +28,7 @@
  *   --no-header: rows only (make orbits appends the double rows to the float table);
  *   --diag: a second table of what the guard did, with signed and largest drifts;
  *   --steps N: every scene for N steps (once; tests/test_orbits.c's figures: --steps 20000);
- *   --tank-cap C: params.tank_cap = C for every variant (default 64). */
+ *   --tank-cap C: params.tank_cap = C for every variant (default 256). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -47,7 +47,7 @@ static const char *const usage_text =
     "  --fallback on|off         store the fallback state when a Newton solve fails\n"
     "                            (default: the scene's, else off)\n"
     "  --tank-cap X              the guard's energy tank capacity in eps times H's terms\n"
-    "                            (default 64; 0: H never rises beyond each step's work)\n"
+    "                            (default 256; 0: H never rises beyond each step's work)\n"
     "  --csv FILE                write a trace: t, H, J, L, C, iterations, every q and p\n"
     "                            (FILE '-' is stdout)\n"
     "  --every K                 one CSV row every K steps (default: `set every`, else 1)\n"
