@@ -340,16 +340,20 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
 }
 
 /* The magnitude M of a built-in potential's V at d, from its parts there: |V_c| + |V_e| +
- * |V'| d. V as edmi__pot_parts computes it (v[0]) at a length d^ within 4 u of d (a link
- * vector's difference and norm, u = EDMI_EPS / 2) errs from V(d) by at most 128 u M, barring
- * underflow (edmi__pot_tiny): counting each formula's roundings and the error of d^ through
- * V', harmonic 8 u M, quartic 43 u M, neo-Hooke 17 u M, Lennard-Jones 86 u M (its (s/d)^6 by
- * five products of a quotient), inverse 6 u M. |V_c| + |V_e| carries V's own size where
- * it is the small difference of two large terms (Lennard-Jones near its minimum, the quartic
- * below its rest length). */
+ * |V'| d + |V''| eps d^2. V as edmi__pot_parts computes it (v[0]) at a length d^ within 4 u
+ * of d (a link vector's difference and norm, u = EDMI_EPS / 2) errs from V(d) by at most
+ * 128 u M, barring underflow (edmi__pot_tiny): counting each formula's roundings and the
+ * error of d^ through V', harmonic 8 u M, quartic 43 u M, neo-Hooke 17 u M, Lennard-Jones
+ * 86 u M (its (s/d)^6 by five products of a quotient), inverse 6 u M; and through V''
+ * (16 u^2 d^2 |V''| / 2), which matters where V'(d^) vanishes while V'(d) does not: a spring
+ * whose rounded length is its rest length exactly (measured: a float body 5e-13 off its rest
+ * length of 1, where d^ = 1). |V_c| + |V_e| carries V's own size where it is the small
+ * difference of two large terms (Lennard-Jones near its minimum, the quartic below its rest
+ * length). */
 static edmi_real edmi__pot_mag(const edmi_pot_parts *pp, edmi_real d)
 {
-    return edmi__abs(pp->c[0]) + edmi__abs(pp->e[0]) + edmi__abs(pp->v[1]) * d;
+    return edmi__abs(pp->c[0]) + edmi__abs(pp->e[0]) +
+           (edmi__abs(pp->v[1]) + edmi__abs(pp->v[2]) * EDMI_EPS * d) * d;
 }
 
 /* Complete homogeneous polynomial h = sum_{j=0..m} a^j b^(m-j) and dh/da, by Horner in a
@@ -1878,6 +1882,9 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
  * mass 2e-28 with p ~ 1e-31 in float, whose p^2 underflows to 0). */
 #define EDMI__DW_ERR (EDMI_R(256.0) * EDMI_EPS * EDMI_EPS)
 #define EDMI__DW_TINY (EDMI_R(1024.0) * EDMI__REAL_MIN)
+/* The double-word length's error, relative: 32 u^2 = 8 eps^2 (18 u^2 of the squared length and
+ * its square root, with room). */
+#define EDMI__DW_X (EDMI_R(8.0) * EDMI_EPS * EDMI_EPS)
 
 /* What a potential's coefficient (a/2, a/4, a/6, 4a) multiplies at length d (s = d^2): the
  * coefficient's own underflow (a near the smallest normals; measured: a = 1.4e-45 in float,
@@ -1919,11 +1926,13 @@ static edmi_real edmi__pot_tiny(const edmi_potential *pot, edmi_real d, edmi_rea
  * with the bound *err on its error. The zero-rest-length harmonic spring needs no square
  * root. m, the term's magnitude, is |V| + |V'| d (or the sum of its parts' sizes, where
  * those cancel): near a rest length V and V' vanish, and so does the error, which comes
- * from the square root's ~18 u^2 d in d - b (u = eps/2). */
+ * from the square root's ~18 u^2 d in d - b (u = eps/2); |d - b| is taken as |x| + 32 u^2
+ * (d + b), x as computed, so that where x is that error alone (computed 0) its square, the
+ * error of V, is still covered. */
 static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
                          edmi_real *err)
 {
-    edmi_real a = pot->a, b = pot->b, m;
+    edmi_real a = pot->a, b = pot->b, m, xe;
     edmi__dw x, t;
     switch (pot->kind) {
     case EDMI_POT_HARMONIC:
@@ -1933,19 +1942,21 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
         } else {
             x = edmi__dw_add_r(d, -b);
             *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
-            m = a * edmi__abs(x.hi) * (edmi__abs(x.hi) + d.hi);
+            xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
+            m = a * xe * (xe + d.hi);
         }
         break;
     case EDMI_POT_QUARTIC:
         x = edmi__dw_sub(s, edmi__two_prod(b, b));
         *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI_R(0.25) * a);
-        m = a * edmi__abs(x.hi) * (s.hi + b * b);
+        m = a * (edmi__abs(x.hi) + EDMI_R(2.0) * EDMI__DW_X * (s.hi + b * b)) * (s.hi + b * b);
         break;
     case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
         x = edmi__dw_add_r(d, -b);
         t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add_r(d, EDMI_R(2.0) * b));
         *v = edmi__dw_div(edmi__dw_mul_r(t, a), edmi__dw_mul_r(d, EDMI_R(6.0)));
-        m = edmi__abs(v->hi) + a * edmi__abs(x.hi) * (d.hi + EDMI_R(2.0) * b) / EDMI_R(3.0);
+        xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
+        m = edmi__abs(v->hi) + a * xe * (xe + d.hi + EDMI_R(2.0) * b) / EDMI_R(3.0);
         break;
     case EDMI_POT_LJ: /* 4 eps t^6 (t^6 - 1), t = sigma / d */
         t = edmi__dw_div(edmi__dw_of(b), d);
@@ -2109,13 +2120,13 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
         sum += mag / m2;
         err += EDMI_R(8.0) * EDMI_EPS * mag / m2 + EDMI__DW_TINY * (EDMI__ONE + EDMI__ONE / m2);
         s1 += edmi__dot(p1[a], p1[a]) / m2; /* a coupled M's K is near this (a magnitude) */
-        if (sys->has_field) { /* V = -(M 1)_a g . q_a */
-            edmi_real m = edmi__mass_row(sys, a), dq[3], fv;
+        if (sys->has_field) { /* V = -(M 1)_a g . q_a (a coupled M's row sum may be < 0) */
+            edmi_real mr = edmi__mass_row(sys, a), m = edmi__abs(mr), dq[3], fv;
             for (i = 0, mag = EDMI__ZERO; i < 3; i++) {
                 dq[i] = q1[a][i] - bd->q[i];
                 mag += edmi__abs(sys->g[i]) * edmi__abs(dq[i]);
             }
-            fv = m * edmi__dot(sys->g, dq);
+            fv = mr * edmi__dot(sys->g, dq);
             e -= fv;
             sum += m * mag;
             err += EDMI_R(8.0) * EDMI_EPS * m * mag + EDMI__DW_TINY * (EDMI__ONE + m);
@@ -3569,11 +3580,12 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         return st;
     cap = guard ? sys->params.tank_cap * EDMI_EPS * pl.s1 : EDMI__ZERO;
     res->tank_cap = cap < EDMI_REAL_MAX ? cap : EDMI_REAL_MAX;
-    if (guard && !exact && pl.ok && edmi__tank_after(sys->tank, pl.e, pl.m) >= cap &&
+    res->dh = pl.e + (res->work_ext + res->work_anchor);
+    if (guard && !exact && pl.ok && edmi__finite(pl.scheme) && edmi__finite(res->dh) &&
+        edmi__tank_after(sys->tank, pl.e, pl.m) >= cap &&
         edmi__tank_after(sys->tank, pl.e, pl.m + edmi__plain_tiny(sys, work)) >= cap) {
         res->certificate = EDMI_CERT_PLAIN;
         res->tank = res->tank_cap;
-        res->dh = pl.e + (res->work_ext + res->work_anchor);
         res->diss_scheme = pl.scheme;
         return EDMI_OK;
     }

@@ -28,30 +28,36 @@ static long double tp_sqrtl(long double x) { return x > 0.0L ? __builtin_sqrtl(x
 /* V(d) of a built-in potential in long double, with s = d^2, and a magnitude M with
  * |computed V - V| <= M u (u = LDBL_EPSILON/2) for the formula as written: each of its
  * roundings is at most u times an intermediate that M bounds, and the rounding of d itself
- * (at most 3u d after the sum of squares and the square root) moves V by |V'| 3u d, which M
- * also bounds. Near a rest length V is small but the rounding of d - rb is not, hence terms
- * like |d - rb| (d + rb). 0 for a user potential (not checkable here). */
+ * (at most 4u d after the link vector's difference, the sum of squares and the square root)
+ * moves V by |V'| 4u d, which M also bounds. Near a rest length V is small but the rounding
+ * of d - rb is not, hence terms like |d - rb| (d + rb), with |d - rb| taken as |x| + 4 eps
+ * (d + rb), x as computed: where the rounding of d hides all of x (x computed 0, the true one
+ * 1e-20 at d = 1: V = 5e-41 seen as 0), V's error is second order in it, a (4 eps d)^2, and
+ * M still bounds it. 0 for a user potential (not checkable here). */
 static int tp_pot(const edmi_potential *p, long double s, long double d, long double *v,
                   long double *mag)
 {
-    long double a = (long double)p->a, b = (long double)p->b, x, t;
+    long double a = (long double)p->a, b = (long double)p->b, x, t, xe;
     switch (p->kind) {
     case EDMI_POT_HARMONIC: /* V' d = a |x| d */
         x = d - b;
+        xe = tp_absl(x) + 4.0L * LDBL_EPSILON * (d + b);
         *v = 0.5L * a * x * x;
-        *mag = 4.0L * a * tp_absl(x) * (d + b) + 4.0L * *v;
+        *mag = 4.0L * a * xe * (d + b) + 4.0L * *v;
         return 1;
     case EDMI_POT_QUARTIC: /* V' d = a |x| s */
         x = s - b * b;
+        xe = tp_absl(x) + 8.0L * LDBL_EPSILON * (s + b * b);
         *v = 0.25L * a * x * x;
-        *mag = 4.0L * a * tp_absl(x) * (s + b * b) + 4.0L * *v;
+        *mag = 4.0L * a * xe * (s + b * b) + 4.0L * *v;
         return 1;
     case EDMI_POT_NEO_HOOKE: /* V' d = a/3 |x| (d^2 + d b + b^2) / d */
         if (!(d > 0.0L))
             return 0;
         x = d - b;
+        xe = tp_absl(x) + 4.0L * LDBL_EPSILON * (d + b);
         *v = a * x * x * (d + 2.0L * b) / (6.0L * d);
-        *mag = 2.0L * a * tp_absl(x) * (d + b) * (d + 2.0L * b) / d + 8.0L * *v;
+        *mag = 2.0L * a * xe * (d + b) * (d + 2.0L * b) / d + 8.0L * *v;
         return 1;
     case EDMI_POT_LJ: /* V' d = 4 a (12 t^12 + 6 t^6) */
         if (!(d > 0.0L))
@@ -104,35 +110,82 @@ static int tp_coupled(const edmi_system *s)
     return 0;
 }
 
+/* The extreme eigenvalues of the symmetric n x n matrix m, by cyclic Jacobi rotations on a
+ * copy (no library code), each within 8 n eps ||m||_F of its computed value (Jacobi is
+ * backward stable): *lmin is the lower end of that interval, *lmax the upper. */
+static void tp_eig_range(long double m[EDMI_MAX_BODIES][EDMI_MAX_BODIES], int n,
+                         long double *lmin, long double *lmax)
+{
+    static long double a[EDMI_MAX_BODIES][EDMI_MAX_BODIES];
+    long double fro = 0.0L, off;
+    int i, j, k, p, q, sweep;
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) {
+            a[i][j] = m[i][j];
+            fro += m[i][j] * m[i][j];
+        }
+    for (sweep = 0; sweep < 64; sweep++) {
+        for (off = 0.0L, i = 0; i < n; i++)
+            for (j = 0; j < n; j++)
+                off += i != j ? a[i][j] * a[i][j] : 0.0L;
+        if (!(off > LDBL_EPSILON * LDBL_EPSILON * fro))
+            break;
+        for (p = 0; p < n; p++)
+            for (q = p + 1; q < n; q++) {
+                long double th, t, c, s;
+                if (a[p][q] == 0.0L)
+                    continue;
+                th = (a[q][q] - a[p][p]) / (2.0L * a[p][q]);
+                t = (th >= 0.0L ? 1.0L : -1.0L) / (tp_absl(th) + tp_sqrtl(th * th + 1.0L));
+                c = 1.0L / tp_sqrtl(t * t + 1.0L);
+                s = t * c;
+                for (k = 0; k < n; k++) { /* columns p, q */
+                    long double kp = a[k][p], kq = a[k][q];
+                    a[k][p] = c * kp - s * kq;
+                    a[k][q] = s * kp + c * kq;
+                }
+                for (k = 0; k < n; k++) { /* rows p, q */
+                    long double pk = a[p][k], qk = a[q][k];
+                    a[p][k] = c * pk - s * qk;
+                    a[q][k] = s * pk + c * qk;
+                }
+            }
+    }
+    *lmin = LDBL_MAX;
+    *lmax = -LDBL_MAX;
+    for (i = 0; i < n; i++) {
+        if (a[i][i] < *lmin)
+            *lmin = a[i][i];
+        if (a[i][i] > *lmax)
+            *lmax = a[i][i];
+    }
+    fro = tp_sqrtl(fro) * 8.0L * (long double)n * LDBL_EPSILON;
+    *lmin -= fro;
+    *lmax += fro;
+}
+
 /* K(p1) - K(p0) = 1/2 (p1 - p0) . M^-1 (p1 + p0) of a coupled M, by Gaussian elimination on
  * the dense M in long double (no library code), and a bound on its error: a few units of
- * long double times kappa(M) times the terms, kappa bounded by Gershgorin's discs. 0 if M is
- * not diagonally dominant (no bound here). */
+ * long double times kappa(M) times the terms, kappa from M's extreme eigenvalues (Jacobi,
+ * tp_eig_range). 0 if M is not positive definite to long double's resolution. */
 static int tp_delta_k_coupled(const edmi_system *s0, const edmi_system *s1, long double *dk,
                               long double *mag) /* s0 NULL: K(p1) itself */
 {
     static long double m[EDMI_MAX_BODIES][EDMI_MAX_BODIES], x[EDMI_MAX_BODIES][3];
-    long double lmin = LDBL_MAX, lmax = 0.0L, kappa, t;
+    long double lmin, lmax, kappa, t;
     int n = s1->n_bodies, a, b, c, k;
 #define TP_P0(a, c) (s0 ? (long double)s0->body[a].p[c] : 0.0L)
     for (a = 0; a < n; a++) {
-        long double off = 0.0L;
-        for (b = 0; b < n; b++) {
+        for (b = 0; b < n; b++)
             m[a][b] = a == b ? (long double)s1->body[a].m : tp_mass_ab(s1, a, b);
-            if (b != a)
-                off += tp_absl(m[a][b]);
-        }
-        if (m[a][a] - off < lmin)
-            lmin = m[a][a] - off;
-        if (m[a][a] + off > lmax)
-            lmax = m[a][a] + off;
         for (c = 0; c < 3; c++)
             x[a][c] = (long double)s1->body[a].p[c] + TP_P0(a, c);
     }
+    tp_eig_range(m, n, &lmin, &lmax);
     if (!(lmin > 0.0L))
         return 0;
     kappa = lmax / lmin;
-    for (k = 0; k < n; k++) /* diagonally dominant: no pivoting needed */
+    for (k = 0; k < n; k++) /* positive definite: no pivoting needed */
         for (a = k + 1; a < n; a++) {
             long double f = m[a][k] / m[k][k];
             if (f == 0.0L)
@@ -234,7 +287,7 @@ long double tp_h(const edmi_system *s)
         long double mag;
         coupled = 1;
         if (!tp_delta_k_coupled(0, s, &h, &mag))
-            return LDBL_MAX; /* not evaluated (M not diagonally dominant): no H */
+            return LDBL_MAX; /* not evaluated (M not provably definite): no H */
         if (s->has_field)
             for (a = 0; a < s->n_bodies; a++) {
                 int b;

@@ -24,7 +24,7 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
                tp_delta *d);
 
 /* H of a stored state in long double (for drifts relative to H0); LDBL_MAX for a coupled M
- * that is not diagonally dominant (not evaluated). */
+ * that is not positive definite to long double's resolution (not evaluated). */
 long double tp_h(const edmi_system *s);
 
 /* The scenes. */

@@ -402,6 +402,14 @@ static void fz_print_sys(const edmi_system *s, edmi_real dt)
     if (s->has_field)
         fprintf(stderr, "  field (%.9g %.9g %.9g)\n", (double)s->g[0], (double)s->g[1],
                 (double)s->g[2]);
+#if EDMI_MAX_MASS_GAP > 0
+    for (j = 1; j < s->n_bodies; j++) {
+        int k;
+        for (k = 0; k < EDMI_MAX_MASS_GAP && k < j; k++)
+            if (s->mass_off[j][k] != 0)
+                fprintf(stderr, "  mass %d %d %.9g\n", j, j - 1 - k, (double)s->mass_off[j][k]);
+    }
+#endif
 }
 
 /* ---- the program ------------------------------------------------------------------------ */
@@ -449,9 +457,10 @@ static void fz_op_step(fz_in *in, int *steps)
     st = edmi_step(&fz_sys, &fz_work, dt, &res);
     if (fz_trace)
         fprintf(stderr, "  -> %s, %d iterations, stop %d, dh %.17g diss_guard %.17g "
-                        "diss_scheme %.17g guard_action %u\n",
+                        "diss_scheme %.17g guard_action %u certificate %d tank %.9g cap %.9g\n",
                 edmi_status_name(st), res.iterations, (int)res.stop, (double)res.dh,
-                (double)res.diss_guard, (double)res.diss_scheme, res.guard_action);
+                (double)res.diss_guard, (double)res.diss_scheme, res.guard_action,
+                (int)res.certificate, (double)res.tank, (double)res.tank_cap);
     fz_unchanged(st, "edmi_step", &fz_sys, &fz_before, 0, 0, 0);
     if (st == EDMI_OK)
         fz_check_step(&fz_before, &fz_sys, dt, &res);
