@@ -16,6 +16,7 @@
 #include "passive.h"
 
 #include <float.h>
+#include <string.h>
 
 #include "../examples/haptic_hand.h" /* hh_sin: a sine without libm */
 
@@ -588,4 +589,409 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
     }
     st->h_last = tp_h(&tp_sys);
     st->window_err = a_err / scale;
+}
+
+/* ---- rest is a fixed point; user potentials guarded as the built-ins are ------------------- */
+
+const char *tp_rest_name(tp_rest s)
+{
+    static const char *const names[TP_NREST] = {
+        "zero-rest-length spring settling onto its anchor", "body exactly on its anchor, p = 0",
+        "neo-Hookean spring settling at its rest length", "pair spring, two bodies settling together",
+        "user potential = harmonic(50, 1)"};
+    return (unsigned)s < (unsigned)TP_NREST ? names[s] : "?";
+}
+
+int tp_user_harmonic_fn(void *ctx, edmi_real r, edmi_pot_parts *out)
+{
+    const tp_user_harmonic *u = (const tp_user_harmonic *)ctx;
+    edmi_real x = r - u->r0;
+    int j;
+    out->c[0] = EDMI_R(0.5) * u->k * x * x;
+    out->c[1] = u->k * x;
+    out->c[2] = u->k;
+    out->c[3] = EDMI_R(0.0);
+    out->c[4] = EDMI_R(0.0);
+    for (j = 0; j < 5; j++) {
+        out->sp[j] = out->c[j];
+        out->e[j] = out->sm[j] = EDMI_R(0.0);
+    }
+    return 0;
+}
+
+int tp_user_harmonic_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1)
+{
+    const tp_user_harmonic *u = (const tp_user_harmonic *)ctx;
+    *dd = EDMI_R(0.5) * u->k * ((d1 - u->r0) + (d0 - u->r0));
+    *dd_d1 = EDMI_R(0.5) * u->k;
+    return 0;
+}
+
+/* TP_REST_USER's potential: the built-in edmi_pot_harmonic(50, 1) written as a user one */
+static tp_user_harmonic tp_user_ctx = {EDMI_R(50.0), EDMI_R(1.0)};
+
+edmi_status tp_rest_build(tp_rest s, const edmi_params *prm, int damper, int user_dd,
+                          edmi_system *sys, edmi_real *dt)
+{
+    edmi_potential zero = edmi_pot_harmonic(EDMI_R(1e4), EDMI_R(0.0));
+    edmi_status st = edmi_init(sys, prm);
+    int j;
+    *dt = EDMI_R(1e-3);
+    if (st != EDMI_OK)
+        return st;
+    switch (s) {
+    case TP_REST_ANCHOR:
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(0.01), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                     EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0), zero);
+        break;
+    case TP_REST_ON_ANCHOR:
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(0.25), EDMI_R(-1.0), EDMI_R(3.0), EDMI_R(0.0),
+                     EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.25), EDMI_R(-1.0), EDMI_R(3.0), zero);
+        break;
+    case TP_REST_NEO_HOOKE:
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(1.2), EDMI_R(0.3), EDMI_R(-0.1), EDMI_R(0.0),
+                     EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                           edmi_pot_neo_hooke(EDMI_R(1e3), EDMI_R(1.0)));
+        break;
+    case TP_REST_PAIR:
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(0.005), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                     EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_body(sys, EDMI_R(0.1), -EDMI_R(0.005), EDMI_R(0.0), EDMI_R(0.0),
+                         EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = edmi_add_pair(sys, 0, 1, &zero, 0);
+        break;
+    case TP_REST_USER:
+    default:
+        st = tp_body(sys, EDMI_R(1.0), EDMI_R(1.3), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                     EDMI_R(2.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                           edmi_pot_user(tp_user_harmonic_fn, user_dd ? tp_user_harmonic_dd : 0,
+                                         &tp_user_ctx));
+        break;
+    }
+    for (j = 0; damper && j < sys->n_links && st == EDMI_OK; j++)
+        st = edmi_add_damper(sys, j, EDMI_R(5.0), 0);
+    return st;
+}
+
+/* x 2^e, in steps of 2^60, 2^8 and 2: exact wherever the result and the steps are normal
+ * (a few operations even where long double is soft-float, as on the Cortex-M4F) */
+static long double tp_ldexp(long double x, int e)
+{
+    static const long double big = 1152921504606846976.0L; /* 2^60 */
+    while (e >= 60 && x != 0.0L) {
+        x *= big;
+        e -= 60;
+    }
+    while (e <= -60 && x != 0.0L) {
+        x /= big;
+        e += 60;
+    }
+    for (; e >= 8; e -= 8)
+        x *= 256.0L;
+    for (; e <= -8; e += 8)
+        x *= 1.0L / 256.0L;
+    for (; e > 0; e--)
+        x *= 2.0L;
+    for (; e < 0; e++)
+        x *= 0.5L;
+    return x;
+}
+
+/* e with 2^(e-1) <= x < 2^e, for x > 0 (exact: only powers of two multiply it) */
+static int tp_exponent(long double x)
+{
+    static const long double big = 1152921504606846976.0L, small = 1.0L / 1152921504606846976.0L;
+    int e = 0;
+    while (x >= big) {
+        x *= small;
+        e += 60;
+    }
+    while (x < small) {
+        x *= big;
+        e -= 60;
+    }
+    for (; x >= 256.0L; e += 8)
+        x *= 1.0L / 256.0L;
+    for (; x < 1.0L / 256.0L; e -= 8)
+        x *= 256.0L;
+    for (; x >= 1.0L; e++)
+        x *= 0.5L;
+    for (; x < 0.5L; e--)
+        x *= 2.0L;
+    return e;
+}
+
+/* A zero-rest-length harmonic spring: H's part in it is homogeneous of degree 2 in (r, p). */
+static int tp_homogeneous(const edmi_potential *p)
+{
+    return p->kind == EDMI_POT_HARMONIC && p->b == 0;
+}
+
+static void tp_link_vec(const edmi_system *s, int j, long double r[3])
+{
+    const edmi_link *lk = &s->link[j];
+    const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : s->body[lk->b].q;
+    int i;
+    for (i = 0; i < 3; i++)
+        r[i] = (long double)s->body[lk->a].q[i] - (long double)xb[i];
+}
+
+/* V of a link that is not homogeneous, unscaled: as tp_pot, and tp_user_harmonic_fn's V */
+static int tp_rest_pot(const edmi_potential *p, const long double r[3], long double *v,
+                       long double *mag)
+{
+    long double s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2], d = tp_sqrtl(s);
+    if (p->kind == EDMI_POT_USER) {
+        const tp_user_harmonic *u = (const tp_user_harmonic *)p->ctx;
+        edmi_potential h;
+        if (p->fn != tp_user_harmonic_fn)
+            return 0;
+        h = edmi_pot_harmonic(u->k, u->r0);
+        return tp_pot(&h, s, d, v, mag);
+    }
+    return tp_pot(p, s, d, v, mag);
+}
+
+int tp_rest_delta(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
+                  long double *excess, int *exponent)
+{
+    const edmi_system *st[2];
+    long double big = 0.0L, hs = 0.0L, ms = 0.0L, hu = 0.0L, mu = 0.0L, f1, f2, t[3], wt;
+    long double r[3];
+    int a, i, j, k, s, e;
+    st[0] = s0;
+    st[1] = s1;
+    if (s0->has_field || s0->n_bodies != s1->n_bodies || s0->n_links != s1->n_links)
+        return 0;
+    /* s: the largest |p| and |r| of the homogeneous links, and sqrt of T and |W|, to ~1 */
+    for (k = 0; k < 2; k++) {
+        for (a = 0; a < st[k]->n_bodies; a++)
+            for (i = 0; i < 3; i++)
+                if (tp_absl((long double)st[k]->body[a].p[i]) > big)
+                    big = tp_absl((long double)st[k]->body[a].p[i]);
+        for (j = 0; j < st[k]->n_links; j++)
+            if (tp_homogeneous(&st[k]->link[j].pot)) {
+                tp_link_vec(st[k], j, r);
+                for (i = 0; i < 3; i++)
+                    if (tp_absl(r[i]) > big)
+                        big = tp_absl(r[i]);
+            }
+    }
+    e = big > 0.0L ? tp_exponent(big) : INT_MIN / 4;
+    t[0] = (long double)s0->tank;
+    t[1] = (long double)s1->tank;
+    t[2] = tp_absl((long double)res->work_ext + (long double)res->work_anchor);
+    wt = t[0] > t[1] ? t[0] : t[1];
+    wt = wt > t[2] ? wt : t[2];
+    if (wt > 0.0L) {
+        int et = tp_exponent(wt);
+        et = et > 0 ? (et + 1) / 2 : et / 2; /* ceil(et / 2) */
+        e = et > e ? et : e;
+    }
+    s = e == INT_MIN / 4 ? 0 : -e;
+    /* 2^s as two factors within double's exponent range (|s| <= 1075 + 60) */
+    f1 = tp_ldexp(1.0L, s / 2);
+    f2 = tp_ldexp(1.0L, s - s / 2);
+    /* the scaled part: K, the homogeneous links, T and W, in units of 2^-2s */
+    for (a = 0; a < s0->n_bodies; a++) {
+        long double k2 = 0.0L, km = 0.0L, m2 = 2.0L * (long double)s0->body[a].m;
+        for (i = 0; i < 3; i++) {
+            long double p0 = (long double)s0->body[a].p[i] * f1 * f2;
+            long double p1 = (long double)s1->body[a].p[i] * f1 * f2;
+            k2 += (p1 - p0) * (p1 + p0);
+            km += tp_absl(p1 - p0) * (tp_absl(p1) + tp_absl(p0));
+        }
+        hs += k2 / m2;
+        ms += 8.0L * km / m2;
+    }
+    for (j = 0; j < s0->n_links; j++) {
+        const edmi_potential *p = &s0->link[j].pot;
+        if (tp_homogeneous(p)) {
+            long double v[2];
+            for (k = 0; k < 2; k++) {
+                tp_link_vec(st[k], j, r);
+                for (i = 0; i < 3; i++)
+                    r[i] = r[i] * f1 * f2;
+                v[k] = 0.5L * (long double)p->a * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+            }
+            hs += v[1] - v[0];
+            ms += 16.0L * (v[0] + v[1]);
+        } else {
+            long double v0, v1, m0, m1;
+            tp_link_vec(s0, j, r);
+            if (!tp_rest_pot(p, r, &v0, &m0))
+                return 0;
+            tp_link_vec(s1, j, r);
+            if (!tp_rest_pot(&s1->link[j].pot, r, &v1, &m1))
+                return 0;
+            hu += v1 - v0;
+            mu += m0 + m1;
+        }
+    }
+    for (i = 0; i < 3; i++)
+        t[i] = t[i] * f1 * f1 * f2 * f2;
+    hs -= ((long double)res->work_ext + (long double)res->work_anchor) * f1 * f1 * f2 * f2 +
+          (t[0] - t[1]);
+    ms += t[0] + t[1] + t[2];
+    /* the check's own rounding (as tp_delta_h: 16 eps of the terms), and what underflowed */
+    ms = TP_ERR_ULPS * LDBL_EPSILON * ms + LDBL_MIN;
+    mu = TP_ERR_ULPS * LDBL_EPSILON * mu;
+    if (hu == 0.0L && mu == 0.0L) {
+        *excess = hs - ms;
+        *exponent = -2 * s;
+    } else { /* an unscaled part: combine in unscaled units */
+        *excess = hu - mu + tp_ldexp(hs - ms, -2 * s) - LDBL_MIN;
+        *exponent = 0;
+    }
+    return *excess - *excess == 0.0L && *excess <= 0.0L;
+}
+
+/* |r| without underflow: the largest component times the norm of r over it */
+static long double tp_norm_scaled(const long double r[3])
+{
+    long double m = tp_absl(r[0]), x, y, z;
+    m = tp_absl(r[1]) > m ? tp_absl(r[1]) : m;
+    m = tp_absl(r[2]) > m ? tp_absl(r[2]) : m;
+    if (m == 0.0L)
+        return 0.0L;
+    x = r[0] / m, y = r[1] / m, z = r[2] / m;
+    return m * tp_sqrtl(x * x + y * y + z * z);
+}
+
+/* How far scene s is from rest: its link's length, or that length's distance from the rest
+ * length (neo-Hookean spring, user potential). */
+static long double tp_rest_dist(tp_rest s, const edmi_system *sys)
+{
+    long double r[3], d;
+    tp_link_vec(sys, 0, r);
+    d = tp_norm_scaled(r);
+    if (s == TP_REST_NEO_HOOKE || s == TP_REST_USER)
+        d = tp_absl(d - 1.0L); /* both rest lengths are 1 */
+    return d;
+}
+
+/* H of a state of a tp_rest scene (no field), in long double: for the user potential's
+ * energies, O(1) (no scaling) */
+static long double tp_rest_h(const edmi_system *s)
+{
+    long double h = 0.0L, r[3], v, m;
+    int a, i, j;
+    for (a = 0; a < s->n_bodies; a++)
+        for (i = 0; i < 3; i++)
+            h += (long double)s->body[a].p[i] * (long double)s->body[a].p[i] /
+                 (2.0L * (long double)s->body[a].m);
+    for (j = 0; j < s->n_links; j++) {
+        tp_link_vec(s, j, r);
+        if (tp_homogeneous(&s->link[j].pot))
+            h += 0.5L * (long double)s->link[j].pot.a * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        else if (tp_rest_pot(&s->link[j].pot, r, &v, &m))
+            h += v;
+    }
+    return h;
+}
+
+long double tp_rest_bound(tp_rest s)
+{
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+    const long double sigma = 4.9406564584124654e-324L; /* 2^-1074 */
+#else
+    const long double sigma = 1.4012984643248171e-45L; /* 2^-149 */
+#endif
+    if (s == TP_REST_NEO_HOOKE)
+        return 4.0L * (long double)EDMI_EPS;
+    return s == TP_REST_USER ? LDBL_MAX : 64.0L * sigma;
+}
+
+static int tp_guard_on(const edmi_params *p)
+{
+    return p->guard == EDMI_GUARD_ON ||
+           (p->guard == EDMI_GUARD_AUTO && p->scheme != EDMI_MP && p->scheme != EDMI_LG);
+}
+
+static edmi_system tp_ref;
+
+void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, long n,
+                 tp_rest_stats *st)
+{
+    edmi_real dt;
+    long k;
+    int i, guard = tp_guard_on(prm);
+    st->steps = st->fallbacks = st->scaled = st->stops = st->guarded = 0;
+    st->uncertified = st->violations = st->tank_violations = 0;
+    st->fail_step = st->last_change = -1;
+    st->dist = st->tail_dist = st->ref_diff = st->ref_amp = 0.0L;
+    st->ref_status = EDMI_OK;
+    st->ref_guarded = 0;
+    st->status = tp_rest_build(s, prm, damper, user_dd, &tp_sys, &dt);
+    if (st->status != EDMI_OK)
+        return;
+    if (s == TP_REST_USER) { /* the reference: the built-in potential, the same parameters */
+        edmi_potential h = edmi_pot_harmonic(tp_user_ctx.k, tp_user_ctx.r0);
+        tp_ref = tp_sys;
+        tp_ref.link[0].pot = h;
+    }
+    st->h0 = tp_rest_h(&tp_sys);
+    tp_old = tp_sys; /* then only what a step changes and tp_rest_delta reads: bodies, tank */
+    for (k = 0; k < n; k++) {
+        edmi_step_result res;
+        long double excess, d;
+        int exponent;
+        memcpy(tp_old.body, tp_sys.body, (size_t)tp_sys.n_bodies * sizeof tp_sys.body[0]);
+        tp_old.tank = tp_sys.tank;
+        st->status = edmi_step(&tp_sys, &tp_work, dt, &res);
+        if (st->status != EDMI_OK) {
+            st->fail_step = k;
+            for (i = 0; i < 3; i++) {
+                st->fail_q[i] = tp_sys.body[0].q[i];
+                st->fail_p[i] = tp_sys.body[0].p[i];
+            }
+            st->fail_tank = tp_sys.tank;
+            break;
+        }
+        st->steps++;
+        st->fallbacks += res.stop == EDMI_STOP_FALLBACK;
+        st->scaled += res.certificate == EDMI_CERT_SCALED;
+        st->stops += (res.guard_action & EDMI_GUARD_STOP) != 0;
+        st->guarded += res.guard_action != 0;
+        if (memcmp(tp_old.body, tp_sys.body, (size_t)tp_sys.n_bodies * sizeof tp_sys.body[0]))
+            st->last_change = k;
+        if (guard) {
+            st->uncertified += res.certificate == EDMI_CERT_NONE;
+            st->tank_violations += !(tp_sys.tank >= 0 && tp_sys.tank <= res.tank_cap &&
+                                     tp_sys.tank == res.tank);
+        }
+        st->violations += !tp_rest_delta(&tp_old, &tp_sys, &res, &excess, &exponent);
+        d = tp_rest_dist(s, &tp_sys);
+        if (k >= n - n / 4 && d > st->tail_dist)
+            st->tail_dist = d;
+        if (s == TP_REST_USER) {
+            long double r[3], x;
+            edmi_step_result rr;
+            st->ref_status = edmi_step(&tp_ref, &tp_work, dt, &rr);
+            st->ref_guarded += rr.guard_action != 0;
+            if (st->ref_status != EDMI_OK)
+                break;
+            for (i = 0; i < 3; i++)
+                r[i] = (long double)tp_sys.body[0].q[i] - (long double)tp_ref.body[0].q[i];
+            x = tp_norm_scaled(r);
+            st->ref_diff = x > st->ref_diff ? x : st->ref_diff;
+            for (i = 0; i < 3; i++)
+                r[i] = (long double)tp_ref.body[0].q[i];
+            x = tp_norm_scaled(r);
+            st->ref_amp = x > st->ref_amp ? x : st->ref_amp;
+        }
+    }
+    st->dist = tp_rest_dist(s, &tp_sys);
+    st->h_end = tp_rest_h(&tp_sys);
+    st->h_ref_end = s == TP_REST_USER ? tp_rest_h(&tp_ref) : st->h_end;
 }

@@ -76,4 +76,90 @@ typedef struct tp_stats {
 /* Take n steps of scene s (built with prm), checking the inequality after every step. */
 void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st);
 
+/* ---- Rest is a fixed point; user potentials are guarded as the built-ins are ----------------
+ * Scenes that settle to rest (energies that underflow, distances down to the subnormal range,
+ * a body exactly on its anchor) and a user potential identical to a built-in one, run with
+ * the inequality checked after every step by tp_rest_delta (below), which evaluates both
+ * stored states in long double on values scaled by a power of two: exact where long double
+ * has no wider range than double (the Arm targets), where H's terms would underflow. */
+typedef enum tp_rest {
+    TP_REST_ANCHOR = 0, /* zero-rest-length spring edmi_pot_harmonic(1e4, 0) from m 0.1 to an
+                           anchor at the origin, dt 1e-3, from q (0.01, 0, 0), p 0 */
+    TP_REST_ON_ANCHOR,  /* the same spring, the body exactly on its anchor (0.25, -1, 3), p 0 */
+    TP_REST_NEO_HOOKE,  /* edmi_pot_neo_hooke(1e3, 1) to the origin, m 0.1, from (1.2, 0.3,
+                           -0.1) at rest: settles onto its rest length */
+    TP_REST_PAIR,       /* two bodies of m 0.1 at (+-0.005, 0, 0) at rest on a zero-rest-length
+                           pair spring edmi_pot_harmonic(1e4, 0), no anchor: they settle
+                           together at the origin */
+    TP_REST_USER,       /* a user potential identical to edmi_pot_harmonic(50, 1), m 1, from
+                           (1.3, 0, 0), p (0, 2, 0), anchor at the origin (tp_rest_run also
+                           steps the built-in one alongside: the reference) */
+    TP_NREST
+} tp_rest;
+
+const char *tp_rest_name(tp_rest s);
+
+/* The user potential of TP_REST_USER: V = k/2 (r - r0)^2 with k and r0 from ctx (a
+ * tp_user_harmonic), split as the built-in is (V_c = V_+ = V, V_e = V_- = 0);
+ * tp_user_harmonic_dd its closed-form divided difference. */
+typedef struct tp_user_harmonic {
+    edmi_real k, r0;
+} tp_user_harmonic;
+int tp_user_harmonic_fn(void *ctx, edmi_real r, edmi_pot_parts *out);
+int tp_user_harmonic_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1);
+
+/* Build scene s with parameters prm (fallback as prm has it); damper: a damper of c 5 on
+ * every link. user_dd: TP_REST_USER's potential with its divided difference (else without:
+ * LG falls back to the quotient). *dt its time step. */
+edmi_status tp_rest_build(tp_rest s, const edmi_params *prm, int damper, int user_dd,
+                          edmi_system *sys, edmi_real *dt);
+
+/* The per-step inequality H_n+1 - H_n <= W + T_n - T_n+1 on two stored states of a system
+ * with no field whose links are zero-rest-length harmonic springs (evaluated on p and the
+ * link vectors scaled by 2^s, with T and W by 2^2s: H is homogeneous of degree 2 there, and s
+ * is chosen to bring the largest to ~1, so nothing underflows that matters), harmonic springs
+ * with r0 > 0, neo-Hookean springs and tp_user_harmonic_fn (evaluated unscaled). *excess:
+ * dh - w - err in units of 2^-2s, *exponent: -2s. 1 if the inequality holds, 0 if it is broken
+ * or a term cannot be evaluated. */
+int tp_rest_delta(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
+                  long double *excess, int *exponent);
+
+/* What tp_rest_run measured. */
+typedef struct tp_rest_stats {
+    long steps;            /* successful steps */
+    edmi_status status;    /* EDMI_OK or the first failing step's status (the run stops there) */
+    long fail_step;        /* that step's index, -1 */
+    edmi_real fail_q[3], fail_p[3], fail_tank; /* body 0 and the tank before it */
+    long fallbacks;        /* res.stop == EDMI_STOP_FALLBACK */
+    long scaled;           /* res.certificate == EDMI_CERT_SCALED */
+    long stops;            /* res.guard_action & EDMI_GUARD_STOP */
+    long guarded;          /* res.guard_action != 0 */
+    long uncertified;      /* guard on and res.certificate == EDMI_CERT_NONE */
+    long violations;       /* tp_rest_delta refused the step */
+    long tank_violations;  /* T < 0, T > res.tank_cap or T != res.tank */
+    long last_change;      /* the last step that changed a body's q or p (bits), -1: none */
+    long double dist;      /* at the end: how far the scene is from rest (link length, or its
+                              distance from the rest length) */
+    long double tail_dist; /* the largest of it over the last quarter of the steps */
+    long double ref_diff;  /* TP_REST_USER: max |q - q_ref| over the run, q_ref the built-in's */
+    long double ref_amp;   /* TP_REST_USER: max |q_ref| over the run */
+    edmi_status ref_status; /* TP_REST_USER: the reference's status (the run stops if not OK) */
+    long ref_guarded;      /* TP_REST_USER: steps the guard changed in the reference */
+    long double h0, h_end, h_ref_end; /* TP_REST_USER: H at the start, at the end, and the
+                                         reference's at the end (long double, own formulas) */
+} tp_rest_stats;
+
+/* The bounds the suite (tests/test_guard.c, where they are justified) and the soak assert:
+ * a scene at rest is within tp_rest_bound(s) of rest (64 units of the smallest subnormal
+ * for the zero-rest-length springs, 4 eps from the neo-Hookean spring's rest length); the
+ * user potential's run after n steps has |H - H_ref| <= TP_USER_DH eps n H0 and
+ * |q - q_ref| <= TP_USER_DQ eps n^2 max |q_ref|. */
+#define TP_USER_DH 2.0L
+#define TP_USER_DQ (1.0L / 4096.0L)
+long double tp_rest_bound(tp_rest s);
+
+/* Take n steps of scene s, checking after every step. */
+void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, long n,
+                 tp_rest_stats *st);
+
 #endif
