@@ -2835,6 +2835,10 @@ typedef struct edmi__qmoves {
     int a, n;          /* body; number of variants (1: positions not moved) */
     edmi_real u[3];    /* units in the last place of q_a (0: component not moved) */
     edmi_real g[3];    /* d(V - work_ext)/dq_a at q_n+1 */
+    edmi_real h;       /* a bound on V's curvature there (the links' max(|V''|, |V'|/d)): a
+                          variant's energy is g.dq + h |dq|^2 / 2, to second order (near a
+                          minimum g vanishes and a unit of q is all the change: a body resting
+                          off the origin, 2 units from its anchor) */
     edmi_real jp[3];   /* p_a, for J's change dq x p_a */
 } edmi__qmoves;
 
@@ -2927,7 +2931,7 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
         bq[v] = EDMI__ZERO;
         for (j = 0; j < 3; j++) {
             dq[j] = (edmi_real)o[j] * qm->u[j];
-            bq[v] += qm->g[j] * dq[j];
+            bq[v] += (qm->g[j] + EDMI__HALF * qm->h * dq[j]) * dq[j];
         }
         edmi__cross(dq, qm->jp, jq[v]);
         if (v < 7) /* the single-unit moves */
@@ -2945,7 +2949,10 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
             int i2 = (j2 & 1 ? 1 : -1) * ((j2 + 1) / 2);
             edmi_real e12 = e1 + (lim2 ? edmi__comp_dk(&c[2], i2) : EDMI__ZERO);
             edmi_real ft = edmi__frac((goal - e12) / unit);
-            /* the variants whose residue brackets ft, two on each side (cyclic) */
+            /* the variants whose residue brackets ft, two on each side (cyclic); the last
+             * resort (k3 < 0) tries them all: where a unit of q moves H by more than the
+             * coarsest momentum component's whole range (a body near rest off the origin),
+             * the residue says nothing about which one fits */
             for (lo = 0, hi_i = qm->n; lo < hi_i;) {
                 int mid = (lo + hi_i) / 2;
                 if (rq[order[mid]] <= ft)
@@ -2953,9 +2960,9 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
                 else
                     hi_i = mid;
             }
-            for (w = -2; w < 2 && w < qm->n - 2; w++) {
+            for (w = k3 < 0 ? -qm->n : -2; w < (k3 < 0 ? 0 : 2) && w < qm->n - 2; w++) {
                 edmi_real err, dj[3], dl[3], m;
-                int kk[3], at = lo + w; /* cyclic: lo in [0, n], w in [-2, 1] */
+                int kk[3], at = k3 < 0 ? w + qm->n : lo + w; /* cyclic: lo in [0, n] */
                 v = order[at < 0 ? at + qm->n : at >= qm->n ? at - qm->n : at];
                 if (!edmi__solve_coarse(&c[0], k3 < 0 ? -k3 : k3, k3 < 0, e12 + bq[v], goal, hi,
                                         &k0, &got))
@@ -3152,12 +3159,14 @@ static int edmi__settled(const edmi__aim *t)
 
 /* One energy-aware rounding, the coarsest component within k3 units; 0 if nothing in range. */
 /* d(V - work_ext)/dq_a at the end of the step, from each link's V'(d_n+1) (working
- * precision: the rounding search only needs its candidates' energies to ~eps relative). */
+ * precision: the rounding search only needs its candidates' energies to ~eps relative), and
+ * *h, a bound on the curvature (edmi__qmoves). */
 static void edmi__grad_q(const edmi_system *sys, const edmi_workspace *work, int a,
-                         edmi_real g[3])
+                         edmi_real g[3], edmi_real *h)
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
     int j, i;
+    *h = EDMI__ZERO;
     for (i = 0; i < 3; i++)
 #if EDMI_MAX_MASS_GAP > 0 /* the field pulls body a with (M 1)_a g */
         g[i] = sys->has_field ? -edmi__mass_row(sys, a) * sys->g[i] : EDMI__ZERO;
@@ -3176,12 +3185,15 @@ static void edmi__grad_q(const edmi_system *sys, const edmi_workspace *work, int
             continue;
         edmi__sub(q1[lk->a], edmi__end_b(lk, &work->lw[j], q1), r1);
         d1 = edmi__norm(r1);
-        if (edmi__is_linear(&lk->pot))
+        if (edmi__is_linear(&lk->pot)) {
             f = lk->pot.a;
-        else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK)
+            *h += f;
+        } else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK) {
             f = pp.v[1] / d1;
-        else
+            *h += edmi__max(edmi__abs(pp.v[2]), edmi__abs(f));
+        } else {
             continue;
+        }
         if (lk->a != a)
             f = -f;
         for (i = 0; i < 3; i++)
@@ -3196,7 +3208,7 @@ static void edmi__pick_qmoves(const edmi_system *sys, const edmi_workspace *work
     int i;
     qm->a = a;
     qm->n = 27;
-    edmi__grad_q(sys, work, a, qm->g);
+    edmi__grad_q(sys, work, a, qm->g, &qm->h);
     edmi__copy3(work->p1[a], qm->jp);
     for (i = 0; i < 3; i++) {
         qm->u[i] = edmi__ulp(work->q1[a][i]);
@@ -3656,7 +3668,8 @@ static void edmi__clear_result(edmi_step_result *res)
  * its potential's terms, which near a rest length or an equilibrium (LJ's two parts, GE's
  * convex and concave halves) cancel to far less than themselves: bounded here by
  * |f| + |r_m| times the largest entry of the link's tangent block (d f / d r_n+1, ~dt V''),
- * plus the LG quotient's own cancellation (edmi_link_ws.noise). Computed only when Newton's
+ * plus the LG quotient's own cancellation (edmi_link_ws.noise), plus the tangent block times
+ * the grid of the iterate's own positions. Computed only when Newton's
  * residual stopped halving; it reuses work->rhs, which the next correction overwrites. */
 static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
 {
@@ -3687,8 +3700,17 @@ static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work,
         edmi__link_tangent(w, dt, k);
         for (i = 0; i < 9; i++)
             kmax = edmi__max(kmax, edmi__abs(k[i]));
+        if (edmi__is_linear(&lk->pot)) /* GE's tangent is 0 where d_n+1 = 0, its kink; the
+                                          force's slope around it is up to dt k */
+            kmax = edmi__max(kmax, dt * edmi__abs(lk->pot.a));
         nrm = edmi__norm(rm);
-        x = EDMI_R(4.0) * EDMI_EPS * (dt * edmi__abs(w->beta) * nrm + EDMI_R(3.0) * kmax * nrm) +
+        /* the iterate lives on its grid: a unit of q_a or of the other end moves the force by
+         * the tangent times it, eps (|q_a| + |x_b|), which near rest away from the origin
+         * (|r| ~ 1e-15 at |q| ~ 1) is far above the force's own rounding */
+        x = EDMI_R(4.0) * EDMI_EPS *
+                (dt * edmi__abs(w->beta) * nrm +
+                 EDMI_R(3.0) * kmax *
+                     (nrm + edmi__norm(q1[lk->a]) + edmi__norm(edmi__end_b(lk, w, q1)))) +
             w->noise;
         acc[3 * lk->a + 1] += x;
         if (lk->b != EDMI_ANCHOR)

@@ -598,6 +598,8 @@ const char *tp_rest_name(tp_rest s)
     static const char *const names[TP_NREST] = {
         "zero-rest-length spring settling onto its anchor", "body exactly on its anchor, p = 0",
         "neo-Hookean spring settling at its rest length", "pair spring, two bodies settling together",
+        "zero-rest-length spring settling onto an anchor at (0.25, -1, 3)",
+        "pair spring, masses 0.1 and 0.3, meeting off the origin",
         "user potential = harmonic(50, 1)"};
     return (unsigned)s < (unsigned)TP_NREST ? names[s] : "?";
 }
@@ -664,6 +666,21 @@ edmi_status tp_rest_build(tp_rest s, const edmi_params *prm, int damper, int use
                      EDMI_R(0.0), EDMI_R(0.0));
         if (st == EDMI_OK)
             st = tp_body(sys, EDMI_R(0.1), -EDMI_R(0.005), EDMI_R(0.0), EDMI_R(0.0),
+                         EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = edmi_add_pair(sys, 0, 1, &zero, 0);
+        break;
+    case TP_REST_OFF_ANCHOR:
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(0.26), EDMI_R(-1.0), EDMI_R(3.0), EDMI_R(0.0),
+                     EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_anchor(sys, 0, EDMI_R(0.25), EDMI_R(-1.0), EDMI_R(3.0), zero);
+        break;
+    case TP_REST_PAIR_OFF:
+        st = tp_body(sys, EDMI_R(0.1), EDMI_R(0.0075), EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0),
+                     EDMI_R(0.0), EDMI_R(0.0));
+        if (st == EDMI_OK)
+            st = tp_body(sys, EDMI_R(0.3), -EDMI_R(0.0025), EDMI_R(0.0), EDMI_R(0.0),
                          EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0));
         if (st == EDMI_OK)
             st = edmi_add_pair(sys, 0, 1, &zero, 0);
@@ -900,7 +917,7 @@ static long double tp_rest_h(const edmi_system *s)
     return h;
 }
 
-long double tp_rest_bound(tp_rest s)
+long double tp_rest_bound(tp_rest s, long double qmax)
 {
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
     const long double sigma = 4.9406564584124654e-324L; /* 2^-1074 */
@@ -909,7 +926,7 @@ long double tp_rest_bound(tp_rest s)
 #endif
     if (s == TP_REST_NEO_HOOKE)
         return 4.0L * (long double)EDMI_EPS;
-    return s == TP_REST_USER ? LDBL_MAX : 64.0L * sigma;
+    return s == TP_REST_USER ? LDBL_MAX : 64.0L * sigma + 16.0L * (long double)EDMI_EPS * qmax;
 }
 
 static int tp_guard_on(const edmi_params *p)
@@ -929,7 +946,7 @@ void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, lon
     st->steps = st->fallbacks = st->scaled = st->stops = st->guarded = 0;
     st->uncertified = st->violations = st->tank_violations = 0;
     st->fail_step = st->last_change = -1;
-    st->dist = st->tail_dist = st->ref_diff = st->ref_amp = 0.0L;
+    st->dist = st->tail_dist = st->qmax = st->ref_diff = st->ref_amp = 0.0L;
     st->ref_status = EDMI_OK;
     st->ref_guarded = 0;
     st->status = tp_rest_build(s, prm, damper, user_dd, &tp_sys, &dt);
@@ -972,8 +989,18 @@ void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, lon
         }
         st->violations += !tp_rest_delta(&tp_old, &tp_sys, &res, &excess, &exponent);
         d = tp_rest_dist(s, &tp_sys);
-        if (k >= n - n / 4 && d > st->tail_dist)
-            st->tail_dist = d;
+        if (k >= n - n / 4) {
+            int a, j;
+            st->tail_dist = d > st->tail_dist ? d : st->tail_dist;
+            for (a = 0; a < tp_sys.n_bodies; a++)
+                for (i = 0; i < 3; i++)
+                    if (tp_absl((long double)tp_sys.body[a].q[i]) > st->qmax)
+                        st->qmax = tp_absl((long double)tp_sys.body[a].q[i]);
+            for (j = 0; j < tp_sys.n_links; j++)
+                for (i = 0; tp_sys.link[j].b == EDMI_ANCHOR && i < 3; i++)
+                    if (tp_absl((long double)tp_sys.link[j].anchor[i]) > st->qmax)
+                        st->qmax = tp_absl((long double)tp_sys.link[j].anchor[i]);
+        }
         if (s == TP_REST_USER) {
             long double r[3], x;
             edmi_step_result rr;

@@ -91,6 +91,12 @@ typedef enum tp_rest {
     TP_REST_PAIR,       /* two bodies of m 0.1 at (+-0.005, 0, 0) at rest on a zero-rest-length
                            pair spring edmi_pot_harmonic(1e4, 0), no anchor: they settle
                            together at the origin */
+    TP_REST_OFF_ANCHOR, /* TP_REST_ANCHOR's spring and body with the anchor at (0.25, -1, 3),
+                           from (0.26, -1, 3): the body rests where the grid of positions
+                           around its anchor (units of ~eps 3) lets it */
+    TP_REST_PAIR_OFF,   /* the pair spring with masses 0.1 at (0.0075, 0, 0) and 0.3 at
+                           (-0.0025, 0, 0): they meet at their centre of mass, ~1e-19 from
+                           the origin (0.0075 and 0.0025 are not on the grid) */
     TP_REST_USER,       /* a user potential identical to edmi_pot_harmonic(50, 1), m 1, from
                            (1.3, 0, 0), p (0, 2, 0), anchor at the origin (tp_rest_run also
                            steps the built-in one alongside: the reference) */
@@ -141,6 +147,8 @@ typedef struct tp_rest_stats {
     long double dist;      /* at the end: how far the scene is from rest (link length, or its
                               distance from the rest length) */
     long double tail_dist; /* the largest of it over the last quarter of the steps */
+    long double qmax;      /* the largest |coordinate| of a body or anchor over the last
+                              quarter: the grid where the scene rests (tp_rest_bound) */
     long double ref_diff;  /* TP_REST_USER: max |q - q_ref| over the run, q_ref the built-in's */
     long double ref_amp;   /* TP_REST_USER: max |q_ref| over the run */
     edmi_status ref_status; /* TP_REST_USER: the reference's status (the run stops if not OK) */
@@ -151,12 +159,14 @@ typedef struct tp_rest_stats {
 
 /* The bounds the suite (tests/test_guard.c, where they are justified) and the soak assert:
  * a scene at rest is within tp_rest_bound(s) of rest (64 units of the smallest subnormal
- * for the zero-rest-length springs, 4 eps from the neo-Hookean spring's rest length); the
+ * for the zero-rest-length springs plus 16 eps qmax, 8 units in the last place of the largest
+ * coordinate where the scene rests off the origin; 4 eps from the neo-Hookean spring's rest
+ * length); the
  * user potential's run after n steps has |H - H_ref| <= TP_USER_DH eps n H0 and
  * |q - q_ref| <= TP_USER_DQ eps n^2 max |q_ref|. */
 #define TP_USER_DH 2.0L
 #define TP_USER_DQ (1.0L / 4096.0L)
-long double tp_rest_bound(tp_rest s);
+long double tp_rest_bound(tp_rest s, long double qmax);
 
 /* Take n steps of scene s, checking after every step. */
 void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, long n,

@@ -89,8 +89,8 @@ static void soak_rest_case(tp_rest sc, edmi_scheme s, edmi_guard_mode g, int dam
         CHECK((dh < 0.0L ? -dh : dh) <= TP_USER_DH * e * x * st.h0);
         CHECK(st.ref_diff <= TP_USER_DQ * e * x * x * st.ref_amp);
     } else if (n >= SOAK_REST_MIN) {
-        CHECK(st.dist <= tp_rest_bound(sc) && st.tail_dist <= tp_rest_bound(sc));
-        if (guard)
+        CHECK(st.dist <= tp_rest_bound(sc, st.qmax) && st.tail_dist <= tp_rest_bound(sc, st.qmax));
+        if (guard && sc != TP_REST_OFF_ANCHOR && sc != TP_REST_PAIR_OFF)
             CHECK(st.last_change < n - n / 4);
     }
 }
@@ -106,7 +106,7 @@ static void soak_rest(long n)
         soak_rest_case(TP_REST_ANCHOR, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1, n);
     soak_rest_case(TP_REST_ANCHOR, EDMI_LG, EDMI_GUARD_AUTO, 1, n);
     soak_rest_case(TP_REST_ANCHOR, EDMI_MP, EDMI_GUARD_AUTO, 1, n);
-    for (sc = TP_REST_ON_ANCHOR; sc <= TP_REST_PAIR; sc++) {
+    for (sc = TP_REST_ON_ANCHOR; sc <= TP_REST_PAIR_OFF; sc++) {
         soak_rest_case((tp_rest)sc, EDMI_GE, EDMI_GUARD_AUTO, 1, n);
         for (k = 0; k < 4; k++)
             soak_rest_case((tp_rest)sc, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1, n);

@@ -330,12 +330,22 @@ static void gd_fallback(void)
  * anchor) and a neo-Hookean spring settling at its rest length.
  *
  * The pair is symmetric about the origin, so its bodies meet at 0 and its link vector reaches
- * the subnormal range as the anchor case's does. Where the bodies meet away from the origin
- * (masses 0.1 and 0.3 from (0.0075, 0, 0) and (-0.0025, 0, 0): they meet at ~1e-19; or a body
- * settling onto an anchor at (0.25, -1, 3)) the library fails: Newton stops with
- * EDMI_ERR_NO_CONVERGENCE once the link's length falls below ~1e-8 of its ends' distance from
- * the origin, in every scheme and both precisions (with params.fallback, the fallback on
- * nearly every step from there), so those cases are not here yet.
+ * the subnormal range as the anchor case's does. Off the origin (a body settling onto an
+ * anchor at (0.25, -1, 3); masses 0.1 and 0.3 from (0.0075, 0, 0) and (-0.0025, 0, 0), which
+ * meet at their centre of mass, ~1e-19 in double, ~1e-10 in float where the start is rounded
+ * coarser) the link's length falls to a few units in the last place of its ends' coordinates
+ * and no further: there a unit of q moves the force by more than its own rounding, which
+ * Newton's noise floor (edmi__noise_floor) covers (before it did, every scheme stopped with
+ * EDMI_ERR_NO_CONVERGENCE there, both precisions), and the rounding search tries every
+ * position variant (a unit of q moves H by more than the momentum's grid covers). They stay
+ * within tp_rest_bound (8 units in the last place of the largest coordinate) over the last
+ * quarter, but the state is not a fixed point in every case: q cannot move by less than its
+ * unit while the spring's pull on p is not 0, so the guard holds p where the scheme would
+ * raise K (the off-anchor body in double is bit for bit fixed from step 1,040 to 1,285; in
+ * float p changes by a unit every few thousand steps, the last at 4,861 of 8,000), and the
+ * pair's total momentum is 0 only to its rounding, so the pair, at rest relative to itself,
+ * drifts as a whole (float PM: P ~ 3e-11, 7e-11 per second); measured distances 1.7e-16 and
+ * 8.9e-8 (anchor, double and float: 1 to 3 units), 2.2e-34 and 1.1e-16 (pair: 8 units).
  *
  * Steps (gd_rest_steps): enough for the last change to fall in the first three quarters.
  * Measured last changes: on the anchor GE alone in double decays through ~600 orders of
@@ -401,13 +411,14 @@ static void gd_rest(tp_rest sc, edmi_scheme s, edmi_guard_mode g, int damper)
 {
     edmi_params prm = edmi_default_params();
     tp_rest_stats st;
-    long double bound = tp_rest_bound(sc);
+    long double bound;
     long n = gd_rest_steps(sc);
     int f0 = th_failed(), guard;
     prm.scheme = s;
     prm.guard = g;
     guard = gd_guarded(&prm);
     tp_rest_run(sc, &prm, damper, 1, n, &st);
+    bound = tp_rest_bound(sc, st.qmax);
     CHECK_STATUS(st.status, EDMI_OK);
     CHECK(st.steps == n);
     CHECK(st.fallbacks == 0);
@@ -416,7 +427,8 @@ static void gd_rest(tp_rest sc, edmi_scheme s, edmi_guard_mode g, int damper)
         CHECK(st.uncertified == 0);
         CHECK(st.violations == 0);
         CHECK(st.tank_violations == 0);
-        CHECK(st.last_change < n - n / 4); /* a fixed point */
+        if (sc != TP_REST_OFF_ANCHOR && sc != TP_REST_PAIR_OFF)
+            CHECK(st.last_change < n - n / 4); /* a fixed point */
     }
     gd_rest_log(sc, &prm, damper, &st);
     if (th_failed() != f0 && st.fail_step >= 0) {
@@ -434,7 +446,7 @@ static void gd_rest_all(void)
         gd_rest(TP_REST_ANCHOR, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1);
     gd_rest(TP_REST_ANCHOR, EDMI_LG, EDMI_GUARD_AUTO, 1);
     gd_rest(TP_REST_ANCHOR, EDMI_MP, EDMI_GUARD_AUTO, 1);
-    for (sc = TP_REST_NEO_HOOKE; sc <= TP_REST_PAIR; sc++) {
+    for (sc = TP_REST_NEO_HOOKE; sc <= TP_REST_PAIR_OFF; sc++) {
         gd_rest((tp_rest)sc, EDMI_GE, EDMI_GUARD_AUTO, 1);
         for (k = 0; k < 4; k++)
             gd_rest((tp_rest)sc, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1);
