@@ -17,8 +17,8 @@
  *      dt = 1.4e-3: period 4.63, 3300 steps per revolution, about 30 revolutions in 10^5
  *      steps; in float also 10^6 steps (300 revolutions: the case of the issue) and 10^7,
  *      where what is left of the guard's steering shows: each action moves H from its
- *      ceiling (H0 less what the tank has lost) to 1/32 of the tank's capacity below it,
- *      about 3e-6 |H0| in float, and those steps add up;
+ *      ceiling (H0 less what the tank has lost) to 1/128 of the tank's capacity below it,
+ *      2 eps S (S the magnitude of H's terms, ~2.4e-7 S in float), and those steps add up;
  *   b  gravity V = -1/r, r0 = 1, v = 1, dt = 1e-3: 6283 steps per revolution;
  *   c  the same LJ, r0 = 1.5, dt = 1.4e-3: the unstable circular orbit (V'' + 3 V'/r < 0
  *      there): round-off grows into a capture (r stays below 3) or an escape.
