@@ -3345,6 +3345,19 @@ static int edmi__guard_moves(const edmi_system *sys, edmi_workspace *work, edmi_
  * cap: the tank's capacity after the step). Certifies H_n+1 - H_n - work <= T_n exactly,
  * moving the state only where the tank cannot cover the step, and sets res->tank to T_n+1 =
  * min(cap, T_n - (H_n+1 - H_n - work)), rounded down. */
+/* Whether the step moved nothing: every body's q_n+1 is q_n and no anchor moves, so V, the
+ * field's energy and the works are exactly what they were. */
+static int edmi__held(const edmi_system *sys, const edmi_workspace *work)
+{
+    int a;
+    if (sys->n_moving > 0 || EDMI__COUPLED(sys))
+        return 0;
+    for (a = 0; a < sys->n_bodies; a++)
+        if (!edmi__same3(sys->body[a].q, work->q1[a]))
+            return 0;
+    return 1;
+}
+
 static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
                                edmi_real cap, edmi_step_result *res)
 {
@@ -3368,9 +3381,27 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         /* leave a little in the tank: the next steps' noise then rarely needs a move */
         t.lift = t.tol = edmi__up2(bal, cap) * EDMI__TANK_LIFT;
         t.goal = t.hi - t.strict - t.lift;
+        if (edmi__held(sys, work)) {
+            /* no position moved: the rise is all K's (a body at a turning point, or resting a
+             * few units in the last place off an anchor away from the origin, whose spring
+             * pulls on p while q cannot move by less than a unit). Each momentum component
+             * no larger than it was, with the sign the scheme gave it: K_n+1 <= K_n (a
+             * diagonal M) and V and the works unchanged, exactly; q_n+1 = q_n stays the
+             * scheme's position for it at a turning point (p_n+1 = -p_n) */
+            int a;
+            for (a = 0; a < sys->n_bodies; a++)
+                for (i = 0; i < 3; i++)
+                    if (edmi__abs(work->p1[a][i]) > edmi__abs(sys->body[a].p[i]))
+                        work->p1[a][i] = work->p1[a][i] < EDMI__ZERO ? -edmi__abs(sys->body[a].p[i])
+                                                                     : edmi__abs(sys->body[a].p[i]);
+            res->guard_action |= EDMI_GUARD_HOLD;
+            if (!edmi__reaim(sys, work, bal, &t))
+                return EDMI_ERR_PASSIVITY;
+        }
         /* at the bottom of the range (scaled) the search's working-precision model of the
          * candidates' energies underflows: only the last move applies */
-        if (bal->scale == EDMI__ONE && edmi__guard_moves(sys, work, bal, &t, res) < 0)
+        if (bal->scale == EDMI__ONE && !edmi__settled(&t) &&
+            edmi__guard_moves(sys, work, bal, &t, res) < 0)
             return EDMI_ERR_PASSIVITY;
         for (i = 0; bal->scale == EDMI__ONE && i < EDMI__GUARD_NUDGES && !edmi__settled(&t);
              i++) {

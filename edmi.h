@@ -484,6 +484,10 @@ typedef enum edmi_stop {
                                    unit in float, 2^-863 in double: a system come to rest),
                                    where the grid is too coarse for the moves above: positions
                                    kept and momenta set to the frame's, as the fallback state */
+#define EDMI_GUARD_HOLD 16u   /*!< no position moved and the tank could not cover the momenta's
+                                   rise: the step kept the state it started from (H and the
+                                   works unchanged exactly; a body held at rest by the grid a
+                                   few units in the last place off an anchor) */
 
 /** How a step's energy change was certified (edmi_step_result.certificate). */
 typedef enum edmi_certificate {
@@ -528,7 +532,8 @@ typedef struct edmi_step_result {
     edmi_real diss_guard;   /*!< energy the guard's changes removed: H change of Newton's
                                  iterate minus that of the stored state (0 when the tank
                                  covered the step, as on most steps) */
-    unsigned guard_action;  /*!< EDMI_GUARD_IMPULSE | _DRAG | _ROUND: what the guard did */
+    unsigned guard_action;  /*!< EDMI_GUARD_IMPULSE | _DRAG | _ROUND | _STOP | _HOLD: what the
+                                 guard did */
     edmi_certificate certificate; /*!< how the guard (or energy_balance) evaluated the step */
     edmi_real tank;         /*!< the energy tank after the step, T_n+1 (sys->tank) */
     edmi_real tank_cap;     /*!< its capacity at the step's end: params.tank_cap EDMI_EPS
