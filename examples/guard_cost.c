@@ -1,14 +1,20 @@
 /* What the passivity guard costs on the host, in instructions: `make guard-cost` runs this
  * program under valgrind --tool=callgrind in both precisions and divides the inclusive counts
- * of the three loops below by their steps. The paper's spring (m = 10, q0 = (2,1,1),
- * p0 = (-30,15,45), neo-Hookean c = 1e3, rbar = 4, dt = 1e-3), 1000 steps each of PM with the
+ * of the loops below by their steps. The paper's spring (m = 10, q0 = (2,1,1),
+ * p0 = (-30,15,45), neo-Hookean c = 1e3, rbar = 4, dt = 1e-3), 2000 steps each of PM with the
  * guard (the default), PM without it (EDMI_GUARD_OFF), and velocity Verlet with one force
- * evaluation per step for reference. The loops are noinline and must stay distinct functions
- * (build with -fno-ipa-icf, or GCC merges the two identical edmi loops). */
+ * evaluation per step for reference. Then systems at rest, guard on: a body (m 0.1) on a
+ * zero-rest-length spring (k 1e4) with a damper (c 5) to an anchor, PM, dt 1e-3, settled for
+ * 60,000 steps from 0.01 away, then 2000 steps measured: the anchor at the origin (the body
+ * ends on a subnormal distance: certified on scaled values) and at (0.25, -1, 3) (the body
+ * rests a few units in the last place off it: the guard holds it, EDMI_GUARD_HOLD). The loops
+ * are noinline and must stay distinct functions (build with -fno-ipa-icf, or GCC merges the
+ * identical edmi loops). */
 #include <stdio.h>
 #include "edmi.h"
 
-#define GC_STEPS 1000
+#define GC_STEPS 2000
+#define GC_SETTLE 60000
 
 static edmi_system gc_sys;
 static edmi_workspace gc_work;
@@ -43,6 +49,38 @@ static int gc_steps(void)
 }
 
 __attribute__((noinline)) static int gc_pm_guard_on(void) { return gc_steps(); }
+
+/* The body settled onto its anchor at x (see the banner) */
+static int gc_build_rest(edmi_real x0, edmi_real x1, edmi_real x2)
+{
+    const edmi_real x[3] = {x0, x1, x2}, p[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
+    edmi_real q[3];
+    edmi_potential pot = edmi_pot_harmonic(EDMI_R(1e4), EDMI_R(0.0));
+    edmi_params prm = edmi_default_params();
+    int link, k;
+    q[0] = x0 + EDMI_R(0.01);
+    q[1] = x1;
+    q[2] = x2;
+    prm.scheme = EDMI_PM;
+    if (edmi_init(&gc_sys, &prm) != EDMI_OK ||
+        edmi_add_body(&gc_sys, EDMI_R(0.1), q, p, NULL) != EDMI_OK ||
+        edmi_add_anchor(&gc_sys, 0, x, &pot, &link) != EDMI_OK ||
+        edmi_add_damper(&gc_sys, link, EDMI_R(5.0), NULL) != EDMI_OK)
+        return 0;
+    for (k = 0; k < GC_SETTLE; k++)
+        if (edmi_step(&gc_sys, &gc_work, EDMI_R(1e-3), NULL) != EDMI_OK)
+            return 0;
+    gc_iterations = 0;
+    return 1;
+}
+
+__attribute__((noinline)) static int gc_rest_origin(void) { return gc_steps(); }
+
+__attribute__((noinline)) static int gc_rest_off(void)
+{
+    int ok = gc_steps();
+    return ok;
+}
 
 __attribute__((noinline)) static int gc_pm_guard_off(void)
 {
@@ -94,5 +132,13 @@ int main(void)
     gc_force(gc_q, gc_f);
     gc_verlet();
     printf("velocity Verlet: %d steps\n", GC_STEPS);
+    if (!gc_build_rest(EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)) || !gc_rest_origin())
+        return 1;
+    printf("at rest on an anchor at the origin: %d steps, %.2f Newton corrections per step\n",
+           GC_STEPS, (double)gc_iterations / GC_STEPS);
+    if (!gc_build_rest(EDMI_R(0.25), EDMI_R(-1.0), EDMI_R(3.0)) || !gc_rest_off())
+        return 1;
+    printf("at rest on an anchor at (0.25, -1, 3): %d steps, %.2f Newton corrections per step\n",
+           GC_STEPS, (double)gc_iterations / GC_STEPS);
     return 0;
 }

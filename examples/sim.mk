@@ -138,9 +138,13 @@ guard-cost: $(GC_DIR)/guard_cost-float $(GC_DIR)/guard_cost-double
 	        > $(GC_DIR)/out-$$r.txt 2>/dev/null || exit 1; \
 	    callgrind_annotate --inclusive=yes --threshold=100 $(GC_DIR)/cg-$$r.out 2>/dev/null | \
 	    awk -v r=$$r '/guard_cost.c:gc_pm_guard_on /{on=$$1} /guard_cost.c:gc_pm_guard_off /{off=$$1} \
-	        /guard_cost.c:gc_verlet /{vv=$$1} END {gsub(",","",on); gsub(",","",off); gsub(",","",vv); \
-	        printf "%-6s PM guard on %7.0f, guard off %7.0f, velocity Verlet %4.0f instructions/step; on/off %.2f\n", \
-	        r, on/1000, off/1000, vv/1000, on/off}'; \
+	        /guard_cost.c:gc_verlet /{vv=$$1} /guard_cost.c:gc_rest_origin /{ro=$$1} \
+	        /guard_cost.c:gc_rest_off /{rf=$$1} END {gsub(",","",on); gsub(",","",off); gsub(",","",vv); \
+	        gsub(",","",ro); gsub(",","",rf); \
+	        printf "%-6s PM guard on %7.0f, guard off %7.0f, velocity Verlet %4.0f instructions/step; on/off %.2f; share %.1f %%\n", \
+	        r, on/2000, off/2000, vv/2000, on/off, 100*(on-off)/on; \
+	        printf "%-6s at rest (PM + damper, guard on): anchor at the origin %7.0f, at (0.25, -1, 3) %7.0f instructions/step\n", \
+	        r, ro/2000, rf/2000}'; \
 	done
 
 # The guard on conservative orbits (examples/orbits.c): both precisions at -O2 against edmi.c,
