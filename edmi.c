@@ -2166,7 +2166,8 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
             ds = (d1 - w->d0) * (d1 + w->d0);
         }
         s1 += m1;
-        if (edmi__link_still(sys, w, lk, q1))
+        w->bal_on = !edmi__link_still(sys, w, lk, q1); /* for edmi__delta_v too */
+        if (!w->bal_on)
             continue; /* exactly 0 */
         e += dv;
         sum += edmi__abs(dv);
@@ -2221,16 +2222,15 @@ static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *wor
 }
 
 /* The links' underflow allowance the plain certificate adds (edmi__pot_tiny at both ends),
- * formed only where the certificate holds without it. */
+ * formed only where the certificate holds without it (after edmi__plain_excess: bal_on). */
 static edmi_real edmi__plain_tiny(const edmi_system *sys, const edmi_workspace *work)
 {
-    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
     edmi_real t = EDMI__ZERO;
     int j;
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         const edmi_link_ws *w = &work->lw[j];
-        if (lk->pot.kind == EDMI_POT_USER || edmi__link_still(sys, w, lk, q1))
+        if (lk->pot.kind == EDMI_POT_USER || !w->bal_on)
             continue;
         t += edmi__pot_tiny(&lk->pot, w->d0, w->d0 * w->d0, w->m0) +
              edmi__pot_tiny(&lk->pot, w->d1, w->d1 * w->d1, w->m1);
@@ -2365,7 +2365,8 @@ static int edmi__end_cached(const edmi_link_ws *w, const edmi_potential *pot,
 }
 
 /* One link's terms of the balance (stored in its workspace: edmi__delta_v). A link whose ends
- * did not move is skipped: its change is exactly 0 (a body at rest certifies exactly). */
+ * did not move (!w->bal_on) is skipped: its change is exactly 0 (a body at rest certifies
+ * exactly). */
 static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
                                       const edmi_link *lk, const edmi_real (*q1)[3],
                                       const edmi__balance *bal)
@@ -2373,7 +2374,6 @@ static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
     edmi__dw r0[3], r1[3], s0, s1, v0, v1, dv, sc;
     edmi_real e0, e1;
     const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
-    w->bal_on = !edmi__link_still(sys, w, lk, q1);
     if (!w->bal_on)
         return EDMI_OK;
     if (lk->pot.kind == EDMI_POT_USER) {
@@ -2431,9 +2431,10 @@ static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
 }
 
 /* V's change over the step into bal (dv, scheme, err_v, size_v), the links' terms kept in
- * their workspaces: with moved = -1 every link is evaluated, with moved = a >= 0 (the guard
- * moved body a's position since the last call) only the links at body a, the others' terms
- * summed again as stored, in the same order: the sums are the full evaluation's. */
+ * their workspaces: with moved = -1 every link is evaluated (each link's bal_on set for q1 by
+ * edmi__plain_excess or edmi__freeze), with moved = a >= 0 (the guard moved body a's position
+ * since the last call) only the links at body a, the others' terms summed again as stored, in
+ * the same order: the sums are the full evaluation's. */
 static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
                                  const edmi_real (*q1)[3], edmi__balance *bal, int moved)
 {
@@ -2446,7 +2447,10 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         const edmi_link *lk = &sys->link[j];
         edmi_link_ws *w = &work->lw[j];
         if (moved < 0 || lk->a == moved || lk->b == moved) {
-            edmi_status st = edmi__delta_v_link(sys, w, lk, q1, bal);
+            edmi_status st;
+            if (moved >= 0)
+                w->bal_on = !edmi__link_still(sys, w, lk, q1);
+            st = edmi__delta_v_link(sys, w, lk, q1, bal);
             if (st != EDMI_OK)
                 return st;
         }
@@ -2648,20 +2652,38 @@ static void edmi__delta_k(const edmi_system *sys, edmi_workspace *work, const ed
     }
 }
 
-/* Excess e = (dv + dk) - w of the stored state over the work, and a margin such that
- * e + margin >= the exact excess. Both finite, or the state is beyond what the guard covers. */
-static int edmi__excess(const edmi__balance *bal, edmi_real *e, edmi_real *margin)
+/* The guard's state between its moves: the excess e of the stored state's H change over the
+ * work, its certification margin, the tank it may draw on, and where to aim. All in the
+ * balance's (scaled) units. */
+typedef struct edmi__aim {
+    edmi__dw h;          /* H's change dv + dk */
+    edmi_real e, margin; /* H change - work <= e + margin, exactly */
+    edmi_real tank;      /* T_n: the step is certified when e + margin <= tank */
+    edmi_real after;     /* T_n - e - margin rounded down (edmi__tank_after) */
+    edmi_real goal, hi;  /* the K change sought, and the largest one that settles the step */
+    edmi_real tol;       /* how close to goal is close enough (0: the search's own window) */
+    edmi_real lift;      /* what a move leaves in the tank, about (EDMI__TANK_LIFT) */
+    edmi_real strict;    /* how far below the tank the guard keeps the excess (tank_cap 0) */
+} edmi__aim;
+
+/* Excess e = (dv + dk) - w of the stored state over the work, a margin such that e + margin
+ * >= the exact excess, and the tank after it (t->tank set). Both finite, or the state is
+ * beyond what the guard covers. */
+static int edmi__excess(const edmi__balance *bal, edmi__aim *t)
 {
-    edmi__dw x = edmi__dw_sub(edmi__dw_add(bal->dv, bal->dk), bal->w);
-    edmi_real t = bal->err_v + bal->err_k + edmi__abs(x.lo) +
-                  EDMI__DW_ERR * (edmi__abs(bal->dv.hi) + edmi__abs(bal->dk.hi) +
-                                  edmi__abs(bal->w.hi));
+    edmi__dw x;
+    edmi_real m;
+    t->h = edmi__dw_add(bal->dv, bal->dk);
+    x = edmi__dw_sub(t->h, bal->w);
+    m = bal->err_v + bal->err_k + edmi__abs(x.lo) +
+        EDMI__DW_ERR * (edmi__abs(bal->dv.hi) + edmi__abs(bal->dk.hi) + edmi__abs(bal->w.hi));
     /* rounded upwards: the three sums above have relative error < 4 eps (0 stays 0: a state
      * whose every term is unchanged has an exactly zero change) */
-    *margin = t > EDMI__ZERO ? t + t * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN : EDMI__ZERO;
-    *e = x.hi;
-    /* t NaN (an error bound 0/0 or inf - inf at the edge of the range) is no margin of 0 */
-    return edmi__finite(x.hi) && edmi__finite(t) && edmi__finite(*margin);
+    t->margin = m > EDMI__ZERO ? m + m * (EDMI_R(4.0) * EDMI_EPS) + EDMI__REAL_MIN : EDMI__ZERO;
+    t->e = x.hi;
+    t->after = edmi__tank_after(t->tank, t->e, t->margin);
+    /* m NaN (an error bound 0/0 or inf - inf at the edge of the range) is no margin of 0 */
+    return edmi__finite(x.hi) && edmi__finite(m) && edmi__finite(t->margin);
 }
 
 /* One stored momentum component the energy-aware rounding may move: body a, axis i, value
@@ -3118,24 +3140,12 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
     return 1;
 }
 
-/* The guard's state between its moves: the excess e of the stored state's H change over the
- * work, its certification margin, the tank it may draw on, and where to aim. All in the
- * balance's (scaled) units. */
-typedef struct edmi__aim {
-    edmi_real e, margin; /* H change - work <= e + margin, exactly */
-    edmi_real tank;      /* T_n: the step is certified when e + margin <= tank */
-    edmi_real goal, hi;  /* the K change sought, and the largest one that settles the step */
-    edmi_real tol;       /* how close to goal is close enough (0: the search's own window) */
-    edmi_real lift;      /* what a move leaves in the tank, about (EDMI__TANK_LIFT) */
-    edmi_real strict;    /* how far below the tank the guard keeps the excess (tank_cap 0) */
-} edmi__aim;
-
 /* Re-evaluate K's change for the current work->p1, and the aim. 0 if beyond range. */
 static int edmi__reaim(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
                        edmi__aim *t)
 {
     edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, bal);
-    if (!edmi__excess(bal, &t->e, &t->margin))
+    if (!edmi__excess(bal, t))
         return 0;
     t->hi = t->tank - t->e - t->margin - t->strict;
     t->goal = t->hi - t->strict - t->lift; /* about the least change that settles the step */
@@ -3147,8 +3157,7 @@ static int edmi__reaim(const edmi_system *sys, edmi_workspace *work, edmi__balan
  * certifies with an empty tank; else T_n - e - margin rounded down must be >= 0. */
 static int edmi__certified(const edmi__aim *t)
 {
-    return t->e + t->margin <= EDMI__ZERO ||
-           edmi__tank_after(t->tank, t->e, t->margin) >= EDMI__ZERO;
+    return t->e + t->margin <= EDMI__ZERO || t->after >= EDMI__ZERO;
 }
 
 /* Settled: certified, and with tank_cap = 0 at least strict below the work. */
@@ -3377,7 +3386,7 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         t.hi -= t.strict;
     }
     if (!edmi__settled(&t)) {
-        h_newton = edmi__dw_add(bal->dv, bal->dk);
+        h_newton = t.h;
         /* leave a little in the tank: the next steps' noise then rarely needs a move */
         t.lift = t.tol = edmi__up2(bal, cap) * EDMI__TANK_LIFT;
         t.goal = t.hi - t.strict - t.lift;
@@ -3421,12 +3430,12 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
             if (!edmi__reaim(sys, work, bal, &t))
                 return EDMI_ERR_PASSIVITY;
         }
-        res->diss_guard =
-            edmi__down2(bal, edmi__dw_real(edmi__dw_sub(h_newton, edmi__dw_add(bal->dv, bal->dk))));
-    }
-    if (!edmi__certified(&t))
-        return EDMI_ERR_PASSIVITY;
-    after = edmi__down2(bal, edmi__tank_after(t.tank, t.e, t.margin));
+        res->diss_guard = edmi__down2(bal, edmi__dw_real(edmi__dw_sub(h_newton, t.h)));
+        if (!edmi__certified(&t))
+            return EDMI_ERR_PASSIVITY;
+    } /* else settled, hence certified */
+    after = edmi__down2(bal, t.after);
+    res->dh = edmi__down2(bal, edmi__dw_real(t.h));
     /* a subnormal quotient may have been rounded up: drop it */
     res->tank = after >= EDMI__REAL_MIN ? (after < cap ? after : cap) : EDMI__ZERO;
     return EDMI_OK;
@@ -3543,6 +3552,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         if (st != EDMI_OK)
             return st;
         d1 = edmi__norm(r1);
+        w->bal_on = !edmi__link_still(sys, w, lk, (const edmi_real (*)[3])work->q1);
         w->beta = EDMI__ZERO;
         if (edmi__is_linear(&lk->pot)) {
             w->beta = lk->pot.a;
@@ -3579,7 +3589,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
     t.tank = edmi__guard_on(&sys->params) ? edmi__up2(&bal, sys->tank) : EDMI__ZERO;
     for (pass = 0; pass < 2; pass++) {
         edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
-        if (!edmi__excess(&bal, &t.e, &t.margin))
+        if (!edmi__excess(&bal, &t))
             return EDMI_ERR_PASSIVITY;
         if (edmi__certified(&t))
             break;
@@ -3589,12 +3599,12 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
     }
     if (!edmi__certified(&t))
         return EDMI_ERR_PASSIVITY;
-    res->dh = edmi__down2(&bal, edmi__dw_real(edmi__dw_add(bal.dv, bal.dk)));
+    res->dh = edmi__down2(&bal, edmi__dw_real(t.h));
     res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
     if (edmi__guard_on(&sys->params)) {
         res->tank_cap = sys->params.tank_cap * EDMI_EPS * s1;
         res->tank_cap = res->tank_cap < EDMI_REAL_MAX ? res->tank_cap : EDMI_REAL_MAX;
-        after = edmi__down2(&bal, edmi__tank_after(t.tank, t.e, t.margin));
+        after = edmi__down2(&bal, t.after);
         res->tank = after >= EDMI__REAL_MIN ? (after < res->tank_cap ? after : res->tank_cap)
                                             : EDMI__ZERO;
     }
@@ -3658,8 +3668,8 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
             return st;
     } else {
         edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
+        res->dh = edmi__down2(&bal, edmi__dw_real(edmi__dw_add(bal.dv, bal.dk)));
     }
-    res->dh = edmi__down2(&bal, edmi__dw_real(edmi__dw_add(bal.dv, bal.dk)));
     return edmi__finite(res->dh) ? EDMI_OK : EDMI_ERR_PASSIVITY;
 }
 
