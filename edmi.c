@@ -1788,6 +1788,16 @@ static EDMI__INLINE edmi__dw edmi__dw_neg(edmi__dw x)
 
 static EDMI__INLINE edmi__dw edmi__dw_sub(edmi__dw x, edmi__dw y) { return edmi__dw_add(x, edmi__dw_neg(y)); }
 
+/* x + y where one of them is often exactly 0 (a sum's first term, a step without work): then
+ * the other, which is what edmi__dw_add returns for finite x and y but for the sign of a zero.
+ * A double-word number (hi = fl(hi + lo), as every operation here returns one) whose hi is 0
+ * has lo = 0, and with an operand (0, 0) each TwoSum and Fast2Sum in edmi__dw_add returns its
+ * other operand exactly. */
+static EDMI__INLINE edmi__dw edmi__dw_add_z(edmi__dw x, edmi__dw y)
+{
+    return y.hi == EDMI__ZERO ? x : x.hi == EDMI__ZERO ? y : edmi__dw_add(x, y);
+}
+
 static EDMI__INLINE edmi__dw edmi__dw_mul_r(edmi__dw x, edmi_real y)
 {
     edmi__dw c = edmi__two_prod(x.hi, y), t = edmi__fast_two_sum(c.hi, x.lo * y);
@@ -2112,9 +2122,9 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
         const edmi_body *bd = &sys->body[a];
         edmi_real m2 = EDMI_R(2.0) * bd->m, t = EDMI__ZERO, mag = EDMI__ZERO;
         for (i = 0; i < 3; i++) {
-            edmi_real d = p1[a][i] - bd->p[i], s = p1[a][i] + bd->p[i];
-            t += d * s;
-            mag += edmi__abs(d) * edmi__abs(s);
+            edmi_real d = p1[a][i] - bd->p[i], s = p1[a][i] + bd->p[i], ds = d * s;
+            t += ds;
+            mag += edmi__abs(ds); /* |d| |s| (rounding is symmetric) */
         }
         e += t / m2;
         sum += mag / m2;
@@ -2238,14 +2248,13 @@ static edmi_real edmi__plain_tiny(const edmi_system *sys, const edmi_workspace *
     return t * (EDMI__ONE + EDMI_R(4.0) * (edmi_real)sys->n_links * EDMI_EPS);
 }
 
-/* t - e - m rounded down (a lower bound on the exact value): the tank after a step whose
- * excess over the work is at most e + m. Its two roundings err by at most 1.01 eps and the
- * last subtraction by 1.5 eps of A = |t| + |e| + |m|: 4 eps A covers them. */
+/* t - e - m rounded down (a lower bound on the exact value): the tank t >= 0 after a step whose
+ * excess over the work is at most e + m, m >= 0. Its two roundings err by at most 1.01 eps and
+ * the last subtraction by 1.5 eps of A = t + |e| + m: 4 eps A covers them. */
 static edmi_real edmi__tank_after(edmi_real t, edmi_real e, edmi_real m)
 {
     edmi_real d = (t - e) - m;
-    return d - (EDMI_R(4.0) * EDMI_EPS * (edmi__abs(t) + edmi__abs(e) + edmi__abs(m)) +
-                EDMI__REAL_MIN);
+    return d - (EDMI_R(4.0) * EDMI_EPS * (t + edmi__abs(e) + m) + EDMI__REAL_MIN);
 }
 
 /* The default capacity of the energy tank (edmi_params.tank_cap), in units of eps times the
@@ -2456,11 +2465,11 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         }
         if (!w->bal_on)
             continue;
-        bal->dv = edmi__dw_add(bal->dv, edmi__dw_pair(w->bal_dv));
+        bal->dv = edmi__dw_add_z(bal->dv, edmi__dw_pair(w->bal_dv));
         bal->err_v += w->bal_err;
         bal->size_v += w->bal_size;
         if (bal->scheme_on)
-            bal->scheme = edmi__dw_add(bal->scheme, edmi__dw_pair(w->bal_sc));
+            bal->scheme = edmi__dw_add_z(bal->scheme, edmi__dw_pair(w->bal_sc));
     }
     if (sys->has_field) /* V = -sum (M 1)_a g . q_a, each mass entry exact */
         for (a = 0; a < sys->n_bodies; a++) {
@@ -2630,23 +2639,24 @@ static void edmi__delta_k(const edmi_system *sys, edmi_workspace *work, const ed
         int i;
         if (edmi__same3(p1[a], bd->p))
             continue;
-        for (i = 0; i < 3; i++) { /* K = |p|^2 / 2m from the scaled momenta (exact) */
-            x1[i] = p1[a][i] * bal->scale;
-            x0[i] = bd->p[i] * bal->scale;
-        }
-        s1 = edmi__dw_norm2(x1);
-        /* |p_n|^2 as the last step evaluated it at its end (edmi__end_cached) */
-        if (bal->scale == EDMI__ONE && edmi__same3(work->kend[a], bd->p))
-            s0 = edmi__dw_pair(work->kend[a] + 3);
-        else
-            s0 = edmi__dw_norm2(x0);
         if (bal->scale == EDMI__ONE) {
+            s1 = edmi__dw_norm2(p1[a]);
+            /* |p_n|^2 as the last step evaluated it at its end (edmi__end_cached) */
+            s0 = edmi__same3(work->kend[a], bd->p) ? edmi__dw_pair(work->kend[a] + 3)
+                                                   : edmi__dw_norm2(bd->p);
             edmi__copy3(p1[a], work->kend[a]);
             work->kend[a][3] = s1.hi;
             work->kend[a][4] = s1.lo;
+        } else {
+            for (i = 0; i < 3; i++) { /* K = |p|^2 / 2m from the scaled momenta (exact) */
+                x1[i] = p1[a][i] * bal->scale;
+                x0[i] = bd->p[i] * bal->scale;
+            }
+            s1 = edmi__dw_norm2(x1);
+            s0 = edmi__dw_norm2(x0);
         }
         m2 = EDMI_R(2.0) * bd->m;
-        bal->dk = edmi__dw_add(bal->dk, edmi__dw_div_r(edmi__dw_sub(s1, s0), m2));
+        bal->dk = edmi__dw_add_z(bal->dk, edmi__dw_div_r(edmi__dw_sub(s1, s0), m2));
         bal->size_k += (s1.hi + s0.hi) / m2;
         bal->err_k += EDMI__DW_ERR * (s1.hi + s0.hi) / m2 + EDMI__DW_TINY / m2 + EDMI__DW_TINY;
     }
@@ -2674,7 +2684,7 @@ static int edmi__excess(const edmi__balance *bal, edmi__aim *t)
     edmi__dw x;
     edmi_real m;
     t->h = edmi__dw_add(bal->dv, bal->dk);
-    x = edmi__dw_sub(t->h, bal->w);
+    x = edmi__dw_add_z(t->h, edmi__dw_neg(bal->w));
     m = bal->err_v + bal->err_k + edmi__abs(x.lo) +
         EDMI__DW_ERR * (edmi__abs(bal->dv.hi) + edmi__abs(bal->dk.hi) + edmi__abs(bal->w.hi));
     /* rounded upwards: the three sums above have relative error < 4 eps (0 stays 0: a state
