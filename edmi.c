@@ -3409,10 +3409,11 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
              * scheme's position for it at a turning point (p_n+1 = -p_n) */
             int a;
             for (a = 0; a < sys->n_bodies; a++)
-                for (i = 0; i < 3; i++)
-                    if (edmi__abs(work->p1[a][i]) > edmi__abs(sys->body[a].p[i]))
-                        work->p1[a][i] = work->p1[a][i] < EDMI__ZERO ? -edmi__abs(sys->body[a].p[i])
-                                                                     : edmi__abs(sys->body[a].p[i]);
+                for (i = 0; i < 3; i++) {
+                    edmi_real p0 = edmi__abs(sys->body[a].p[i]);
+                    if (edmi__abs(work->p1[a][i]) > p0)
+                        work->p1[a][i] = work->p1[a][i] < EDMI__ZERO ? -p0 : p0;
+                }
             res->guard_action |= EDMI_GUARD_HOLD;
             if (!edmi__reaim(sys, work, bal, &t))
                 return EDMI_ERR_PASSIVITY;
