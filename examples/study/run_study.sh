@@ -141,7 +141,7 @@ for f in "$out"/long_*.dat; do
     printf '%s: max |H - H0|/|H0| over the run %s, final (H - H0)/|H0| %s;%s\n' "$(basename "$f" .dat)" \
         "$(awk '!/^#/ { if ($2 > m) m = $2 } END { printf "%.2e", m }' "$f")" \
         "$(awk '!/^#/ { e = $3 } END { printf "%+.2e", e }' "$f")" \
-        "$(sed -n 's/^# steps H rose/ steps H rose/p' "$f")"
+        "$(sed -n 's/^# steps H + T rose/ steps H + T rose/p' "$f")"
 done | tee "$out/long_summary.txt"
 
 if [ "$quick" != 1 ]; then
