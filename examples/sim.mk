@@ -60,7 +60,7 @@ $(HOST)/sim_scene.o: $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.h | $(HOST)
 $(HOST)/sim_edmi.o: edmi.c edmi.h | $(HOST)
 	$(CC) $(LIBFLAGS) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -c $< -o $@
 
-# edmi-sim evaluates H of every stored state in long double with tests/passive.c (the soak's
+# edmi-sim evaluates H of every stored state in tp_q with tests/passive.c (the soak's
 # check, independent of the library's arithmetic) for its "H steps" line.
 SIM_PASSIVE := tests/passive.c tests/passive.h examples/haptic_hand.h
 $(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o \

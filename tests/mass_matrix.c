@@ -509,7 +509,7 @@ static void mm_guarded(edmi_scheme scheme, int steps, edmi_real dt)
             break;
         }
         guarded += res.guard_action != 0;
-        rises += d.dh > d.w + d.err; /* w: no work here, what the tank gave */
+        rises += d.broken; /* dh > w + err; w: no work here, what the tank gave */
         if (d.dh > worst_rise)
             worst_rise = d.dh;
         h = mm_h(&mm_sys, &kin);
@@ -557,7 +557,7 @@ static void mm_fallback(void)
     st = edmi_step(&mm_sys, &mm_work, EDMI_R(1e-3), &res);
     mm_momenta(&mm_sys, l1, j1, c1);
     if (st == EDMI_OK && tp_delta_h(&mm_copy, &mm_sys, &res, &d))
-        rose = d.dh > d.w + d.err; /* no work: at most what the tank gave */
+        rose = d.broken; /* dh > w + err; no work: at most what the tank gave */
     for (a = 0; a < MM_N && st == EDMI_OK; a++)
         if (memcmp(mm_sys.body[a].q, mm_copy.body[a].q, sizeof mm_sys.body[a].q) != 0)
             st = EDMI_ERR_PARAM;
@@ -787,7 +787,7 @@ static long mm_hanging(int consistent, long *rises)
             return -1;
         }
         drags += (res.guard_action & EDMI_GUARD_DRAG) != 0;
-        *rises += d.dh > d.w + d.err;
+        *rises += d.broken; /* dh > w + err, decided in tp_q */
     }
     return drags;
 }

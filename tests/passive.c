@@ -1,18 +1,27 @@
-/* The passivity inequality on stored states, checked in long double, and the adversarial
- * scenes of the guard's suite and soak (see passive.h).
+/* The passivity inequality on stored states, checked in tp_q (__float128 on the x86-64 host,
+ * long double elsewhere), and the adversarial scenes of the guard's suite and soak (see
+ * passive.h).
  *
  * Independence. The library certifies H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext +
  * work_anchor with its own double-word evaluation. The check here shares none of that code:
- * it evaluates each link's V(|q_a - x_b|) of both stored states in long double from the
- * potentials' textbook formulas and each body's kinetic change as (p1 - p0).(p1 + p0)/2m,
- * subtracts term by term, and bounds its own rounding by TP_ERR_ULPS units of long double's
- * epsilon times the terms' magnitudes M (tp_pot: M u bounds a term's error, u = eps/2; the
- * factor 16 eps = 32 u covers the dozen roundings along each formula and the sums over
- * terms). On x86-64 long double has 64 bits of significand: for float states the check
- * resolves ~1e-17 of the terms, far below float's grid (~6e-8 of them per unit of a
- * coordinate), for double states ~1e-17 too, a tenth of double's grid. On the Arm targets
- * long double is double: float states are still resolved (~4e-15), double states only to
- * about their own grid, which is what the count `uncertain` reports. */
+ * it evaluates each link's V(|q_a - x_b|) of both stored states in tp_q from the potentials'
+ * textbook formulas and each body's kinetic change as (p1 - p0).(p1 + p0)/2m, subtracts term
+ * by term, and bounds its own rounding by TP_ERR_ULPS units of tp_q's epsilon times the
+ * terms' magnitudes M (tp_pot: M u bounds a term's error, u = eps/2; the factor 16 eps = 32 u
+ * covers the dozen roundings along each formula and the sums over terms).
+ *
+ * Resolution. The library's double-word certificates leave a double state margins of ~eps^2
+ * of H's terms (1e-32), so the check must resolve below that to judge a double step. On the
+ * x86-64 host tp_q is __float128 (113-bit significand, libgcc's soft arithmetic, no
+ * libquadmath): 16 eps = 3e-33 of the terms, below both float's grid (~6e-8 of the terms per
+ * unit of a coordinate) and the double certificates' margins. Where there is no __float128
+ * tp_q is long double: on the Arm targets that is double, so float states are still resolved
+ * (~4e-15) but double states only to about their own grid, which is what the counts of
+ * unresolved steps report. Define TP_NO_FLOAT128 for long double on the host too (x87: 64
+ * bits, ~1e-18 of the terms). The public interface (passive.h) reports in long double:
+ * values are rounded once at the end (binary128 to x87 keeps the sign and the exponent
+ * range), and every comparison of the inequality is made in tp_q before that (tp_delta's
+ * broken and unresolved). */
 #include "passive.h"
 
 #include <float.h>
@@ -20,59 +29,117 @@
 
 #include "../examples/haptic_hand.h" /* hh_sin: a sine without libm */
 
-#define TP_ERR_ULPS 16.0L
+/* ---- the check's arithmetic: tp_q -----------------------------------------------------------
+ * __float128 where GCC or clang offers it on x86-64 with an x87 long double (the seed of
+ * tp_sqrtq, and a range as wide as binary128's: 2^-16382 is both types' smallest normal);
+ * long double otherwise. TP_Q_EPS: the type's epsilon (2^-112, FLT128_EPSILON, built from
+ * exact powers of two: C99 has no Q suffix); TP_Q_MIN: its smallest normal. */
+#if defined(__SIZEOF_FLOAT128__) && defined(__x86_64__) && LDBL_MANT_DIG == 64 && \
+    LDBL_MIN_EXP == -16381 && !defined(TP_NO_FLOAT128)
+__extension__ typedef __float128 tp_q;
+#define TP_QUAD 1
+#define TP_Q_EPS ((tp_q)1.0 / ((tp_q)72057594037927936.0 * (tp_q)72057594037927936.0))
+#define TP_Q_MIN ((tp_q)LDBL_MIN)
+#else
+typedef long double tp_q;
+#define TP_QUAD 0
+#define TP_Q_EPS LDBL_EPSILON
+#define TP_Q_MIN LDBL_MIN
+#endif
+
+#define TP_ERR_ULPS ((tp_q)16.0)
+
+const char *tp_q_name(void) { return TP_QUAD ? "__float128" : "long double"; }
+
+long double tp_q_eps(void) { return (long double)TP_Q_EPS; }
 
 static long double tp_absl(long double x) { return x < 0.0L ? -x : x; }
 
+static tp_q tp_absq(tp_q x) { return x < (tp_q)0.0 ? -x : x; }
+
 static long double tp_sqrtl(long double x) { return x > 0.0L ? __builtin_sqrtl(x) : 0.0L; }
 
-/* V(d) of a built-in potential in long double, with s = d^2, and a magnitude M with
- * |computed V - V| <= M u (u = LDBL_EPSILON/2) for the formula as written: each of its
- * roundings is at most u times an intermediate that M bounds, and the rounding of d itself
- * (at most 4u d after the link vector's difference, the sum of squares and the square root)
- * moves V by |V'| 4u d, which M also bounds. Near a rest length V is small but the rounding
- * of d - rb is not, hence terms like |d - rb| (d + rb), with |d - rb| taken as |x| + 4 eps
- * (d + rb), x as computed: where the rounding of d hides all of x (x computed 0, the true one
- * 1e-20 at d = 1: V = 5e-41 seen as 0), V's error is second order in it, a (4 eps d)^2, and
- * M still bounds it. 0 for a user potential (not checkable here). */
-static int tp_pot(const edmi_potential *p, long double s, long double d, long double *v,
-                  long double *mag)
+/* sqrt(x) in tp_q, 0 for x <= 0. Long double: sqrtl, correctly rounded (within u = eps/2 of
+ * the result). binary128: faithfully rounded, within 0.5001 units in the last place (so
+ * within u of the result): the seed y = sqrtl(x) has 64 bits and errs by e <= 1.5 2^-64 (x
+ * rounded to 64 bits, then sqrtl); split (Veltkamp, in long double: y (2^32 + 1) does not
+ * overflow) into h + l of at most 32 bits each, h^2, 2hl and l^2 are exact in 113 bits and
+ * so is the residual r = ((x - h^2) - 2hl) - l^2 = x - y^2 (with y in [2^k, 2^k+1), every
+ * partial difference is a multiple of 2^(2k-126) below 2^(2k-29): at most 97 bits). One
+ * Newton step y + r/2y then errs by e^2/2 < 2^-127 relative before rounding, r/2y by u of
+ * itself (< 2^-175 of the result), and the final sum by half a unit. Below 2^-16000, x is
+ * scaled by 2^256 first (exact), so that the seed and the split stay normal. */
+static tp_q tp_sqrtq(tp_q x)
 {
-    long double a = (long double)p->a, b = (long double)p->b, x, t, xe;
+#if TP_QUAD
+    tp_q f = (tp_q)1.0, r, hq, lq;
+    long double y, c, h, l;
+    if (!(x > (tp_q)0.0))
+        return (tp_q)0.0;
+    if (x < (tp_q)LDBL_MIN * (tp_q)0x1p382) { /* 2^-16000 */
+        x *= (tp_q)0x1p256;
+        f = (tp_q)0x1p-128;
+    }
+    y = __builtin_sqrtl((long double)x);
+    c = y * 4294967297.0L; /* 2^32 + 1 */
+    h = c - (c - y);
+    l = y - h;
+    hq = (tp_q)h;
+    lq = (tp_q)l;
+    r = ((x - hq * hq) - (tp_q)2.0 * hq * lq) - lq * lq;
+    return f * ((tp_q)y + r / ((tp_q)2.0 * (tp_q)y));
+#else
+    return x > 0.0L ? __builtin_sqrtl(x) : 0.0L;
+#endif
+}
+
+/* V(d) of a built-in potential in tp_q, with s = d^2, and a magnitude M with
+ * |computed V - V| <= M u (u = TP_Q_EPS/2) for the formula as written: each of its roundings
+ * is at most u times an intermediate that M bounds, and the rounding of d itself (at most 4u
+ * d after the link vector's difference, the sum of squares and the square root: 2.5u + u,
+ * tp_sqrtq) moves V by |V'| 4u d, which M also bounds. Near a rest length V is small but
+ * the rounding of d - rb is not, hence terms like |d - rb| (d + rb), with |d - rb| taken as
+ * |x| + 4 eps (d + rb), x as computed: where the rounding of d hides all of x (x computed 0,
+ * the true one ~1e-34 at d = 1 in binary128, ~1e-20 in x87 long double: V = k/2 x^2 seen as
+ * 0), V's error is second order in it, a (4 eps d)^2, and M still bounds it. Only + - * / (no libm): LJ's t^6 by products.
+ * 0 for a user potential (not checkable here). */
+static int tp_pot(const edmi_potential *p, tp_q s, tp_q d, tp_q *v, tp_q *mag)
+{
+    tp_q a = (tp_q)p->a, b = (tp_q)p->b, x, t, xe;
     switch (p->kind) {
     case EDMI_POT_HARMONIC: /* V' d = a |x| d */
         x = d - b;
-        xe = tp_absl(x) + 4.0L * LDBL_EPSILON * (d + b);
-        *v = 0.5L * a * x * x;
-        *mag = 4.0L * a * xe * (d + b) + 4.0L * *v;
+        xe = tp_absq(x) + (tp_q)4.0 * TP_Q_EPS * (d + b);
+        *v = (tp_q)0.5 * a * x * x;
+        *mag = (tp_q)4.0 * a * xe * (d + b) + (tp_q)4.0 * *v;
         return 1;
     case EDMI_POT_QUARTIC: /* V' d = a |x| s */
         x = s - b * b;
-        xe = tp_absl(x) + 8.0L * LDBL_EPSILON * (s + b * b);
-        *v = 0.25L * a * x * x;
-        *mag = 4.0L * a * xe * (s + b * b) + 4.0L * *v;
+        xe = tp_absq(x) + (tp_q)8.0 * TP_Q_EPS * (s + b * b);
+        *v = (tp_q)0.25 * a * x * x;
+        *mag = (tp_q)4.0 * a * xe * (s + b * b) + (tp_q)4.0 * *v;
         return 1;
     case EDMI_POT_NEO_HOOKE: /* V' d = a/3 |x| (d^2 + d b + b^2) / d */
-        if (!(d > 0.0L))
+        if (!(d > (tp_q)0.0))
             return 0;
         x = d - b;
-        xe = tp_absl(x) + 4.0L * LDBL_EPSILON * (d + b);
-        *v = a * x * x * (d + 2.0L * b) / (6.0L * d);
-        *mag = 2.0L * a * xe * (d + b) * (d + 2.0L * b) / d + 8.0L * *v;
+        xe = tp_absq(x) + (tp_q)4.0 * TP_Q_EPS * (d + b);
+        *v = a * x * x * (d + (tp_q)2.0 * b) / ((tp_q)6.0 * d);
+        *mag = (tp_q)2.0 * a * xe * (d + b) * (d + (tp_q)2.0 * b) / d + (tp_q)8.0 * *v;
         return 1;
     case EDMI_POT_LJ: /* V' d = 4 a (12 t^12 + 6 t^6) */
-        if (!(d > 0.0L))
+        if (!(d > (tp_q)0.0))
             return 0;
         t = b / d;
         t = t * t * t * t * t * t;
-        *v = 4.0L * a * t * (t - 1.0L);
-        *mag = 4.0L * a * t * (t + 1.0L) * 64.0L;
+        *v = (tp_q)4.0 * a * t * (t - (tp_q)1.0);
+        *mag = (tp_q)4.0 * a * t * (t + (tp_q)1.0) * (tp_q)64.0;
         return 1;
     case EDMI_POT_INVERSE: /* V' d = |V| */
-        if (!(d > 0.0L))
+        if (!(d > (tp_q)0.0))
             return 0;
         *v = -a / d;
-        *mag = 8.0L * tp_absl(a) / d;
+        *mag = (tp_q)8.0 * tp_absq(a) / d;
         return 1;
     case EDMI_POT_USER:
     default:
@@ -80,21 +147,30 @@ static int tp_pot(const edmi_potential *p, long double s, long double d, long do
     }
 }
 
-/* The link vector of link j in state s, and its squared length, in long double. */
-static long double tp_link_sq(const edmi_system *s, int j, long double *d)
+/* The link vector of link j in state s, in tp_q (each component the difference of two stored
+ * reals: exact, or within u of itself). */
+static void tp_link_vec(const edmi_system *s, int j, tp_q r[3])
 {
     const edmi_link *lk = &s->link[j];
     const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : s->body[lk->b].q;
-    long double r0 = (long double)s->body[lk->a].q[0] - (long double)xb[0];
-    long double r1 = (long double)s->body[lk->a].q[1] - (long double)xb[1];
-    long double r2 = (long double)s->body[lk->a].q[2] - (long double)xb[2];
-    long double sq = r0 * r0 + r1 * r1 + r2 * r2;
-    *d = tp_sqrtl(sq);
+    int i;
+    for (i = 0; i < 3; i++)
+        r[i] = (tp_q)s->body[lk->a].q[i] - (tp_q)xb[i];
+}
+
+/* The squared length of link j in state s, and the length *d, in tp_q. */
+static tp_q tp_link_sq(const edmi_system *s, int j, tp_q *d)
+{
+    tp_q r[3], sq;
+    tp_link_vec(s, j, r);
+    sq = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    *d = tp_sqrtq(sq);
     return sq;
 }
 
 #if EDMI_MAX_MASS_GAP > 0
-/* m_ab of a coupled mass matrix (issue 12), a != b; 0 beyond the gap. */
+/* m_ab of a coupled mass matrix (issue 12), a != b; 0 beyond the gap. Exact in long double
+ * (a stored real). */
 static long double tp_mass_ab(const edmi_system *s, int a, int b)
 {
     int hi = a > b ? a : b, k = (a > b ? a - b : b - a) - 1;
@@ -113,7 +189,12 @@ static int tp_coupled(const edmi_system *s)
 
 /* The extreme eigenvalues of the symmetric n x n matrix m, by cyclic Jacobi rotations on a
  * copy (no library code), each within 8 n eps ||m||_F of its computed value (Jacobi is
- * backward stable): *lmin is the lower end of that interval, *lmax the upper. */
+ * backward stable): *lmin is the lower end of that interval, *lmax the upper. In long double
+ * (eps = LDBL_EPSILON), not tp_q: m's entries are stored reals (exact in long double), and
+ * the range serves only as a bound with its own margin, kappa = lmax / lmin >= kappa(M) in
+ * the solve's error bound (tp_delta_k_coupled), and lmin > 0 as the proof that M is
+ * definite. A coarser kappa widens that bound by a factor of at most 1 + 16 n eps kappa, not
+ * its validity; the inequality's terms themselves are solved in tp_q. */
 static void tp_eig_range(long double m[EDMI_MAX_BODIES][EDMI_MAX_BODIES], int n,
                          long double *lmin, long double *lmax)
 {
@@ -166,30 +247,34 @@ static void tp_eig_range(long double m[EDMI_MAX_BODIES][EDMI_MAX_BODIES], int n,
 }
 
 /* K(p1) - K(p0) = 1/2 (p1 - p0) . M^-1 (p1 + p0) of a coupled M, by Gaussian elimination on
- * the dense M in long double (no library code), and a bound on its error: a few units of
- * long double times kappa(M) times the terms, kappa from M's extreme eigenvalues (Jacobi,
- * tp_eig_range). 0 if M is not positive definite to long double's resolution. */
-static int tp_delta_k_coupled(const edmi_system *s0, const edmi_system *s1, long double *dk,
-                              long double *mag) /* s0 NULL: K(p1) itself */
+ * the dense M in tp_q (no library code), and a bound on its error: a few units of tp_q times
+ * kappa(M) times the terms, kappa from M's extreme eigenvalues (Jacobi, tp_eig_range). 0 if
+ * M is not positive definite to long double's resolution (tp_eig_range). */
+static int tp_delta_k_coupled(const edmi_system *s0, const edmi_system *s1, tp_q *dk,
+                              tp_q *mag) /* s0 NULL: K(p1) itself */
 {
-    static long double m[EDMI_MAX_BODIES][EDMI_MAX_BODIES], x[EDMI_MAX_BODIES][3];
-    long double lmin, lmax, kappa, t;
+    static long double ml[EDMI_MAX_BODIES][EDMI_MAX_BODIES];
+    static tp_q m[EDMI_MAX_BODIES][EDMI_MAX_BODIES], x[EDMI_MAX_BODIES][3];
+    long double lmin, lmax;
+    tp_q kappa, t;
     int n = s1->n_bodies, a, b, c, k;
-#define TP_P0(a, c) (s0 ? (long double)s0->body[a].p[c] : 0.0L)
+#define TP_P0(a, c) (s0 ? (tp_q)s0->body[a].p[c] : (tp_q)0.0)
     for (a = 0; a < n; a++) {
-        for (b = 0; b < n; b++)
-            m[a][b] = a == b ? (long double)s1->body[a].m : tp_mass_ab(s1, a, b);
+        for (b = 0; b < n; b++) {
+            ml[a][b] = a == b ? (long double)s1->body[a].m : tp_mass_ab(s1, a, b);
+            m[a][b] = (tp_q)ml[a][b];
+        }
         for (c = 0; c < 3; c++)
-            x[a][c] = (long double)s1->body[a].p[c] + TP_P0(a, c);
+            x[a][c] = (tp_q)s1->body[a].p[c] + TP_P0(a, c);
     }
-    tp_eig_range(m, n, &lmin, &lmax);
+    tp_eig_range(ml, n, &lmin, &lmax);
     if (!(lmin > 0.0L))
         return 0;
-    kappa = lmax / lmin;
+    kappa = (tp_q)(lmax / lmin);
     for (k = 0; k < n; k++) /* positive definite: no pivoting needed */
         for (a = k + 1; a < n; a++) {
-            long double f = m[a][k] / m[k][k];
-            if (f == 0.0L)
+            tp_q f = m[a][k] / m[k][k];
+            if (f == (tp_q)0.0)
                 continue;
             for (b = k; b < n; b++)
                 m[a][b] -= f * m[k][b];
@@ -203,23 +288,28 @@ static int tp_delta_k_coupled(const edmi_system *s0, const edmi_system *s1, long
                 t -= m[a][b] * x[b][c];
             x[a][c] = t / m[a][a];
         }
-    *dk = 0.0L;
-    *mag = 0.0L;
+    *dk = (tp_q)0.0;
+    *mag = (tp_q)0.0;
     for (a = 0; a < n; a++)
         for (c = 0; c < 3; c++) {
-            long double d = (long double)s1->body[a].p[c] - TP_P0(a, c);
-            *dk += 0.5L * d * x[a][c];
-            *mag += 8.0L * (long double)(n + 2) * kappa * tp_absl(d * x[a][c]);
+            tp_q d = (tp_q)s1->body[a].p[c] - TP_P0(a, c);
+            *dk += (tp_q)0.5 * d * x[a][c];
+            *mag += (tp_q)8.0 * (tp_q)(n + 2) * kappa * tp_absq(d * x[a][c]);
         }
 #undef TP_P0
     return 1;
 }
 #endif
 
-int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
-               tp_delta *out)
+/* tp_delta in tp_q: what tp_delta_h reports before rounding, and tp_run accumulates. */
+typedef struct tp_qdelta {
+    tp_q dh, w, err, mag;
+} tp_qdelta;
+
+static int tp_delta_q(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
+                      tp_qdelta *out)
 {
-    long double dh = 0.0L, mag = 0.0L;
+    tp_q dh = (tp_q)0.0, mag = (tp_q)0.0;
     int a, i, j, coupled = 0;
 #if EDMI_MAX_MASS_GAP > 0
     if (tp_coupled(s0)) {
@@ -231,38 +321,37 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
                 int b;
                 for (b = 0; b < s0->n_bodies; b++)
                     for (i = 0; i < 3 && b != a; i++) {
-                        long double g = (long double)s0->g[i], m = tp_mass_ab(s0, a, b);
-                        long double dq = (long double)s1->body[a].q[i] -
-                                         (long double)s0->body[a].q[i];
+                        tp_q g = (tp_q)s0->g[i], m = (tp_q)tp_mass_ab(s0, a, b);
+                        tp_q dq = (tp_q)s1->body[a].q[i] - (tp_q)s0->body[a].q[i];
                         dh -= m * g * dq;
-                        mag += 8.0L * tp_absl(m * g * dq);
+                        mag += (tp_q)8.0 * tp_absq(m * g * dq);
                     }
             }
     }
 #endif
     for (a = 0; a < s0->n_bodies; a++) {
-        long double m2 = 2.0L * (long double)s0->body[a].m, k = 0.0L, km = 0.0L;
+        tp_q m2 = (tp_q)2.0 * (tp_q)s0->body[a].m, k = (tp_q)0.0, km = (tp_q)0.0;
         /* K1 - K0 = sum (p1 - p0)(p1 + p0) / 2m: p1 - p0 exact or within u of itself (two
-         * stored values, at most 53 significant bits, in 64), so the error is a few u
-         * times the terms of the change, not of K */
+         * stored values, at most 53 significant bits, in tp_q's 53 to 113), so the error is a
+         * few u times the terms of the change, not of K */
         for (i = 0; i < 3 && !coupled; i++) {
-            long double p0 = (long double)s0->body[a].p[i], p1 = (long double)s1->body[a].p[i];
+            tp_q p0 = (tp_q)s0->body[a].p[i], p1 = (tp_q)s1->body[a].p[i];
             k += (p1 - p0) * (p1 + p0);
-            km += tp_absl(p1 - p0) * (tp_absl(p1) + tp_absl(p0));
+            km += tp_absq(p1 - p0) * (tp_absq(p1) + tp_absq(p0));
         }
         dh += k / m2;
-        mag += 8.0L * km / m2;
+        mag += (tp_q)8.0 * km / m2;
         if (s0->has_field) /* V = -m g . q, changed by -m g . (q1 - q0) */
             for (i = 0; i < 3; i++) {
-                long double g = (long double)s0->g[i], m = (long double)s0->body[a].m;
-                long double dq = (long double)s1->body[a].q[i] - (long double)s0->body[a].q[i];
+                tp_q g = (tp_q)s0->g[i], m = (tp_q)s0->body[a].m;
+                tp_q dq = (tp_q)s1->body[a].q[i] - (tp_q)s0->body[a].q[i];
                 dh -= m * g * dq;
-                mag += 8.0L * tp_absl(m * g * dq);
+                mag += (tp_q)8.0 * tp_absq(m * g * dq);
             }
     }
     for (j = 0; j < s0->n_links; j++) {
-        long double d0, d1, sq0 = tp_link_sq(s0, j, &d0), sq1 = tp_link_sq(s1, j, &d1);
-        long double v0, v1, m0, m1;
+        tp_q d0, d1, sq0 = tp_link_sq(s0, j, &d0), sq1 = tp_link_sq(s1, j, &d1);
+        tp_q v0, v1, m0, m1;
         if (!tp_pot(&s0->link[j].pot, sq0, d0, &v0, &m0) ||
             !tp_pot(&s1->link[j].pot, sq1, d1, &v1, &m1))
             return 0;
@@ -270,51 +359,75 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
         mag += m0 + m1;
     }
     out->dh = dh;
-    out->w = (long double)res->work_ext + (long double)res->work_anchor +
-             ((long double)s0->tank - (long double)s1->tank);
-    out->err = TP_ERR_ULPS * LDBL_EPSILON *
-               (mag + tp_absl((long double)res->work_ext) + tp_absl((long double)res->work_anchor) +
-                (long double)s0->tank + (long double)s1->tank);
+    out->w = (tp_q)res->work_ext + (tp_q)res->work_anchor + ((tp_q)s0->tank - (tp_q)s1->tank);
+    out->err = TP_ERR_ULPS * TP_Q_EPS *
+               (mag + tp_absq((tp_q)res->work_ext) + tp_absq((tp_q)res->work_anchor) +
+                (tp_q)s0->tank + (tp_q)s1->tank);
     out->mag = mag;
-    return dh - dh == 0.0L && out->err - out->err == 0.0L;
+    return dh - dh == (tp_q)0.0 && out->err - out->err == (tp_q)0.0;
 }
 
-long double tp_h(const edmi_system *s)
+int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
+               tp_delta *out)
 {
-    long double h = 0.0L;
+    tp_qdelta q;
+    tp_q diff;
+    if (!tp_delta_q(s0, s1, res, &q))
+        return 0;
+    diff = q.dh - q.w;
+    out->dh = (long double)q.dh;
+    out->w = (long double)q.w;
+    out->err = (long double)q.err;
+    out->mag = (long double)q.mag;
+    out->diff = (long double)diff;
+    out->broken = diff > q.err;
+    out->unresolved = !(diff > q.err) && !(diff < -q.err);
+    out->rose = q.dh > q.err;
+    return 1;
+}
+
+/* H of a stored state in tp_q; 0 if a coupled M is not provably definite (not evaluated). */
+static int tp_hq(const edmi_system *s, tp_q *out)
+{
+    tp_q h = (tp_q)0.0;
     int a, i, j, coupled = 0;
 #if EDMI_MAX_MASS_GAP > 0
     if (tp_coupled(s)) {
-        long double mag;
+        tp_q mag;
         coupled = 1;
         if (!tp_delta_k_coupled(0, s, &h, &mag))
-            return LDBL_MAX; /* not evaluated (M not provably definite): no H */
+            return 0;
         if (s->has_field)
             for (a = 0; a < s->n_bodies; a++) {
                 int b;
                 for (b = 0; b < s->n_bodies; b++)
                     for (i = 0; i < 3 && b != a; i++)
-                        h -= tp_mass_ab(s, a, b) * (long double)s->g[i] *
-                             (long double)s->body[a].q[i];
+                        h -= (tp_q)tp_mass_ab(s, a, b) * (tp_q)s->g[i] * (tp_q)s->body[a].q[i];
             }
     }
 #endif
     for (a = 0; a < s->n_bodies; a++) {
-        long double k = 0.0L;
+        tp_q k = (tp_q)0.0;
         for (i = 0; i < 3 && !coupled; i++)
-            k += (long double)s->body[a].p[i] * (long double)s->body[a].p[i];
-        h += k / (2.0L * (long double)s->body[a].m);
+            k += (tp_q)s->body[a].p[i] * (tp_q)s->body[a].p[i];
+        h += k / ((tp_q)2.0 * (tp_q)s->body[a].m);
         if (s->has_field)
             for (i = 0; i < 3; i++)
-                h -= (long double)s->body[a].m * (long double)s->g[i] *
-                     (long double)s->body[a].q[i];
+                h -= (tp_q)s->body[a].m * (tp_q)s->g[i] * (tp_q)s->body[a].q[i];
     }
     for (j = 0; j < s->n_links; j++) {
-        long double d, sq = tp_link_sq(s, j, &d), v, m;
+        tp_q d, sq = tp_link_sq(s, j, &d), v, m;
         if (tp_pot(&s->link[j].pot, sq, d, &v, &m))
             h += v;
     }
-    return h;
+    *out = h;
+    return 1;
+}
+
+long double tp_h(const edmi_system *s)
+{
+    tp_q h;
+    return tp_hq(s, &h) ? (long double)h : LDBL_MAX;
 }
 
 /* ---- scenes ------------------------------------------------------------------------------ */
@@ -505,8 +618,10 @@ static void tp_j(const edmi_system *s, long double j[3])
     int a;
     j[0] = j[1] = j[2] = 0.0L;
     for (a = 0; a < s->n_bodies; a++) {
-        long double q0 = s->body[a].q[0], q1 = s->body[a].q[1], q2 = s->body[a].q[2];
-        long double p0 = s->body[a].p[0], p1 = s->body[a].p[1], p2 = s->body[a].p[2];
+        long double q0 = (long double)s->body[a].q[0], q1 = (long double)s->body[a].q[1],
+                    q2 = (long double)s->body[a].q[2];
+        long double p0 = (long double)s->body[a].p[0], p1 = (long double)s->body[a].p[1],
+                    p2 = (long double)s->body[a].p[2];
         j[0] += q1 * p2 - q2 * p1;
         j[1] += q2 * p0 - q0 * p2;
         j[2] += q0 * p1 - q1 * p0;
@@ -516,65 +631,71 @@ static void tp_j(const edmi_system *s, long double j[3])
 void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
 {
     edmi_real dt;
-    long double j0[3], jn, scale;
+    long double j0[3], jn;
     long k;
     int track_j = s == TP_SPRING || s == TP_STIFF;
-    /* over the steps m so far: min of A_m + T_m and of A_m, A_m = H_m - sum_{k<m} W_k, and the
-     * accumulated error of A */
-    long double a_min = 0.0L, a_low = 0.0L, a_err = 0.0L;
+    /* in tp_q: H0 and its scale, the largest (dH - W) / scale, the works and H accumulated
+     * (H_n = H_n-1 + dh), and over the steps m so far: min of A_m + T_m and of A_m,
+     * A_m = H_m - sum_{k<m} W_k, and the accumulated error of A */
+    tp_q h0, scale, worst = (tp_q)-1.0, sum_w = (tp_q)0.0, h_last;
+    tp_q a_min, a_low, a_err = (tp_q)0.0, max_window = (tp_q)0.0, max_cap = (tp_q)0.0;
     st->steps = st->violations = st->rises = st->uncertain = 0;
     st->fallbacks = st->guarded = st->iterations = 0;
-    st->window_violations = st->tank_violations = 0;
+    st->window_violations = st->tank_violations = st->window_beyond_cap = 0;
     st->worst = -1.0L;
     st->sum_w = st->max_dj = st->max_window = st->max_cap = st->window_err = 0.0L;
     st->status = tp_build(s, prm, &tp_sys, &dt);
     if (st->status != EDMI_OK)
         return;
-    st->h0 = st->h_last = tp_h(&tp_sys);
-    scale = tp_absl(st->h0) > 0.0L ? tp_absl(st->h0) : 1.0L;
-    a_min = st->h0 + (long double)tp_sys.tank;
-    a_low = st->h0;
+    if (!tp_hq(&tp_sys, &h0))
+        h0 = (tp_q)LDBL_MAX;
+    h_last = h0;
+    scale = tp_absq(h0) > (tp_q)0.0 ? tp_absq(h0) : (tp_q)1.0;
+    a_min = h0 + (tp_q)tp_sys.tank;
+    a_low = h0;
     tp_j(&tp_sys, j0);
     jn = tp_sqrtl(j0[0] * j0[0] + j0[1] * j0[1] + j0[2] * j0[2]);
     for (k = 0; k < n; k++) {
         edmi_step_result res;
-        tp_delta d;
+        tp_qdelta d;
+        tp_q diff;
         tp_control(s, &tp_sys, k);
         tp_old = tp_sys;
         st->status = edmi_step(&tp_sys, &tp_work, dt, &res);
         if (st->status != EDMI_OK)
-            return;
+            break;
         st->steps++;
         st->iterations += res.iterations;
         st->fallbacks += res.stop == EDMI_STOP_FALLBACK;
         st->guarded += res.guard_action != 0;
-        if (!tp_delta_h(&tp_old, &tp_sys, &res, &d)) {
+        if (!tp_delta_q(&tp_old, &tp_sys, &res, &d)) {
             st->violations++; /* a state the check cannot evaluate is not accepted */
             continue;
         }
-        st->violations += d.dh - d.w > d.err;
-        st->uncertain += tp_absl(d.dh - d.w) <= d.err;
+        diff = d.dh - d.w;
+        st->violations += diff > d.err;
+        st->uncertain += tp_absq(diff) <= d.err;
         st->rises += d.dh > d.err;
-        if ((d.dh - d.w) / scale > st->worst)
-            st->worst = (d.dh - d.w) / scale;
+        if (diff / scale > worst)
+            worst = diff / scale;
         /* the works alone (d.w holds the tank's part too) */
-        st->sum_w += (long double)res.work_ext + (long double)res.work_anchor;
+        sum_w += (tp_q)res.work_ext + (tp_q)res.work_anchor;
         st->tank_violations += !(tp_sys.tank >= 0 && tp_sys.tank <= res.tank_cap &&
                                  tp_sys.tank == res.tank);
-        if ((long double)res.tank_cap / scale > st->max_cap)
-            st->max_cap = (long double)res.tank_cap / scale;
+        if ((tp_q)res.tank_cap / scale > max_cap)
+            max_cap = (tp_q)res.tank_cap / scale;
         {
             /* windows: A_n = H_n - sum_{k<n} W_k must stay <= A_m + T_m for every m < n. A_n
              * from this step's change (H_n = H_n-1 + dh, not a fresh H: its rounding is in
              * d.err, accumulated into a_err) */
-            long double a_n = st->h_last + d.dh - st->sum_w;
-            a_err += d.err + LDBL_EPSILON * (tp_absl(st->sum_w) + tp_absl(a_n));
-            if ((a_n - a_low) / scale > st->max_window)
-                st->max_window = (a_n - a_low) / scale;
+            tp_q a_n = h_last + d.dh - sum_w;
+            a_err += d.err + TP_Q_EPS * (tp_absq(sum_w) + tp_absq(a_n));
+            if ((a_n - a_low) / scale > max_window)
+                max_window = (a_n - a_low) / scale;
             st->window_violations += a_n - a_min > a_err;
-            st->h_last += d.dh;
-            if (a_n + (long double)tp_sys.tank < a_min)
-                a_min = a_n + (long double)tp_sys.tank;
+            h_last += d.dh;
+            if (a_n + (tp_q)tp_sys.tank < a_min)
+                a_min = a_n + (tp_q)tp_sys.tank;
             if (a_n < a_low)
                 a_low = a_n;
         }
@@ -587,8 +708,18 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
                 st->max_dj = dj;
         }
     }
-    st->h_last = tp_h(&tp_sys);
-    st->window_err = a_err / scale;
+    if (st->status == EDMI_OK) {
+        if (!tp_hq(&tp_sys, &h_last))
+            h_last = (tp_q)LDBL_MAX;
+        st->window_err = (long double)(a_err / scale);
+        st->window_beyond_cap = max_window > max_cap + a_err / scale;
+    }
+    st->h0 = (long double)h0;
+    st->h_last = (long double)h_last;
+    st->worst = (long double)worst;
+    st->sum_w = (long double)sum_w;
+    st->max_window = (long double)max_window;
+    st->max_cap = (long double)max_cap;
 }
 
 /* ---- rest is a fixed point; user potentials guarded as the built-ins are ------------------- */
@@ -700,34 +831,35 @@ edmi_status tp_rest_build(tp_rest s, const edmi_params *prm, int damper, int use
     return st;
 }
 
-/* x 2^e, in steps of 2^60, 2^8 and 2: exact wherever the result and the steps are normal
- * (a few operations even where long double is soft-float, as on the Cortex-M4F) */
-static long double tp_ldexp(long double x, int e)
+/* x 2^e in tp_q, in steps of 2^60, 2^8 and 2: exact wherever the result and the steps are
+ * normal (a few operations even where tp_q is soft-float, as on the Cortex-M4F or in
+ * binary128) */
+static tp_q tp_ldexp(tp_q x, int e)
 {
-    static const long double big = 1152921504606846976.0L; /* 2^60 */
-    while (e >= 60 && x != 0.0L) {
+    static const tp_q big = (tp_q)1152921504606846976.0; /* 2^60 */
+    while (e >= 60 && x != (tp_q)0.0) {
         x *= big;
         e -= 60;
     }
-    while (e <= -60 && x != 0.0L) {
+    while (e <= -60 && x != (tp_q)0.0) {
         x /= big;
         e += 60;
     }
     for (; e >= 8; e -= 8)
-        x *= 256.0L;
+        x *= (tp_q)256.0;
     for (; e <= -8; e += 8)
-        x *= 1.0L / 256.0L;
+        x *= (tp_q)(1.0 / 256.0);
     for (; e > 0; e--)
-        x *= 2.0L;
+        x *= (tp_q)2.0;
     for (; e < 0; e++)
-        x *= 0.5L;
+        x *= (tp_q)0.5;
     return x;
 }
 
 /* e with 2^(e-1) <= x < 2^e, for x > 0 (exact: only powers of two multiply it) */
-static int tp_exponent(long double x)
+static int tp_exponent(tp_q x)
 {
-    static const long double big = 1152921504606846976.0L, small = 1.0L / 1152921504606846976.0L;
+    static const tp_q big = (tp_q)1152921504606846976.0, small = (tp_q)(1.0 / 1152921504606846976.0);
     int e = 0;
     while (x >= big) {
         x *= small;
@@ -737,14 +869,14 @@ static int tp_exponent(long double x)
         x *= big;
         e -= 60;
     }
-    for (; x >= 256.0L; e += 8)
-        x *= 1.0L / 256.0L;
-    for (; x < 1.0L / 256.0L; e -= 8)
-        x *= 256.0L;
-    for (; x >= 1.0L; e++)
-        x *= 0.5L;
-    for (; x < 0.5L; e--)
-        x *= 2.0L;
+    for (; x >= (tp_q)256.0; e += 8)
+        x *= (tp_q)(1.0 / 256.0);
+    for (; x < (tp_q)(1.0 / 256.0); e -= 8)
+        x *= (tp_q)256.0;
+    for (; x >= (tp_q)1.0; e++)
+        x *= (tp_q)0.5;
+    for (; x < (tp_q)0.5; e--)
+        x *= (tp_q)2.0;
     return e;
 }
 
@@ -754,20 +886,10 @@ static int tp_homogeneous(const edmi_potential *p)
     return p->kind == EDMI_POT_HARMONIC && p->b == 0;
 }
 
-static void tp_link_vec(const edmi_system *s, int j, long double r[3])
-{
-    const edmi_link *lk = &s->link[j];
-    const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : s->body[lk->b].q;
-    int i;
-    for (i = 0; i < 3; i++)
-        r[i] = (long double)s->body[lk->a].q[i] - (long double)xb[i];
-}
-
 /* V of a link that is not homogeneous, unscaled: as tp_pot, and tp_user_harmonic_fn's V */
-static int tp_rest_pot(const edmi_potential *p, const long double r[3], long double *v,
-                       long double *mag)
+static int tp_rest_pot(const edmi_potential *p, const tp_q r[3], tp_q *v, tp_q *mag)
 {
-    long double s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2], d = tp_sqrtl(s);
+    tp_q s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2], d = tp_sqrtq(s);
     if (p->kind == EDMI_POT_USER) {
         const tp_user_harmonic *u = (const tp_user_harmonic *)p->ctx;
         edmi_potential h;
@@ -783,8 +905,8 @@ int tp_rest_delta(const edmi_system *s0, const edmi_system *s1, const edmi_step_
                   long double *excess, int *exponent)
 {
     const edmi_system *st[2];
-    long double big = 0.0L, hs = 0.0L, ms = 0.0L, hu = 0.0L, mu = 0.0L, f1, f2, t[3], wt;
-    long double r[3];
+    tp_q big = (tp_q)0.0, hs = (tp_q)0.0, ms = (tp_q)0.0, hu = (tp_q)0.0, mu = (tp_q)0.0;
+    tp_q f1, f2, t[3], wt, r[3], x;
     int a, i, j, k, s, e;
     st[0] = s0;
     st[1] = s1;
@@ -794,57 +916,57 @@ int tp_rest_delta(const edmi_system *s0, const edmi_system *s1, const edmi_step_
     for (k = 0; k < 2; k++) {
         for (a = 0; a < st[k]->n_bodies; a++)
             for (i = 0; i < 3; i++)
-                if (tp_absl((long double)st[k]->body[a].p[i]) > big)
-                    big = tp_absl((long double)st[k]->body[a].p[i]);
+                if (tp_absq((tp_q)st[k]->body[a].p[i]) > big)
+                    big = tp_absq((tp_q)st[k]->body[a].p[i]);
         for (j = 0; j < st[k]->n_links; j++)
             if (tp_homogeneous(&st[k]->link[j].pot)) {
                 tp_link_vec(st[k], j, r);
                 for (i = 0; i < 3; i++)
-                    if (tp_absl(r[i]) > big)
-                        big = tp_absl(r[i]);
+                    if (tp_absq(r[i]) > big)
+                        big = tp_absq(r[i]);
             }
     }
-    e = big > 0.0L ? tp_exponent(big) : INT_MIN / 4;
-    t[0] = (long double)s0->tank;
-    t[1] = (long double)s1->tank;
-    t[2] = tp_absl((long double)res->work_ext + (long double)res->work_anchor);
+    e = big > (tp_q)0.0 ? tp_exponent(big) : INT_MIN / 4;
+    t[0] = (tp_q)s0->tank;
+    t[1] = (tp_q)s1->tank;
+    t[2] = tp_absq((tp_q)res->work_ext + (tp_q)res->work_anchor);
     wt = t[0] > t[1] ? t[0] : t[1];
     wt = wt > t[2] ? wt : t[2];
-    if (wt > 0.0L) {
+    if (wt > (tp_q)0.0) {
         int et = tp_exponent(wt);
         et = et > 0 ? (et + 1) / 2 : et / 2; /* ceil(et / 2) */
         e = et > e ? et : e;
     }
     s = e == INT_MIN / 4 ? 0 : -e;
     /* 2^s as two factors within double's exponent range (|s| <= 1075 + 60) */
-    f1 = tp_ldexp(1.0L, s / 2);
-    f2 = tp_ldexp(1.0L, s - s / 2);
+    f1 = tp_ldexp((tp_q)1.0, s / 2);
+    f2 = tp_ldexp((tp_q)1.0, s - s / 2);
     /* the scaled part: K, the homogeneous links, T and W, in units of 2^-2s */
     for (a = 0; a < s0->n_bodies; a++) {
-        long double k2 = 0.0L, km = 0.0L, m2 = 2.0L * (long double)s0->body[a].m;
+        tp_q k2 = (tp_q)0.0, km = (tp_q)0.0, m2 = (tp_q)2.0 * (tp_q)s0->body[a].m;
         for (i = 0; i < 3; i++) {
-            long double p0 = (long double)s0->body[a].p[i] * f1 * f2;
-            long double p1 = (long double)s1->body[a].p[i] * f1 * f2;
+            tp_q p0 = (tp_q)s0->body[a].p[i] * f1 * f2;
+            tp_q p1 = (tp_q)s1->body[a].p[i] * f1 * f2;
             k2 += (p1 - p0) * (p1 + p0);
-            km += tp_absl(p1 - p0) * (tp_absl(p1) + tp_absl(p0));
+            km += tp_absq(p1 - p0) * (tp_absq(p1) + tp_absq(p0));
         }
         hs += k2 / m2;
-        ms += 8.0L * km / m2;
+        ms += (tp_q)8.0 * km / m2;
     }
     for (j = 0; j < s0->n_links; j++) {
         const edmi_potential *p = &s0->link[j].pot;
         if (tp_homogeneous(p)) {
-            long double v[2];
+            tp_q v[2];
             for (k = 0; k < 2; k++) {
                 tp_link_vec(st[k], j, r);
                 for (i = 0; i < 3; i++)
                     r[i] = r[i] * f1 * f2;
-                v[k] = 0.5L * (long double)p->a * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+                v[k] = (tp_q)0.5 * (tp_q)p->a * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
             }
             hs += v[1] - v[0];
-            ms += 16.0L * (v[0] + v[1]);
+            ms += (tp_q)16.0 * (v[0] + v[1]);
         } else {
-            long double v0, v1, m0, m1;
+            tp_q v0, v1, m0, m1;
             tp_link_vec(s0, j, r);
             if (!tp_rest_pot(p, r, &v0, &m0))
                 return 0;
@@ -857,64 +979,63 @@ int tp_rest_delta(const edmi_system *s0, const edmi_system *s1, const edmi_step_
     }
     for (i = 0; i < 3; i++)
         t[i] = t[i] * f1 * f1 * f2 * f2;
-    hs -= ((long double)res->work_ext + (long double)res->work_anchor) * f1 * f1 * f2 * f2 +
-          (t[0] - t[1]);
+    hs -= ((tp_q)res->work_ext + (tp_q)res->work_anchor) * f1 * f1 * f2 * f2 + (t[0] - t[1]);
     ms += t[0] + t[1] + t[2];
     /* the check's own rounding (as tp_delta_h: 16 eps of the terms), and what underflowed */
-    ms = TP_ERR_ULPS * LDBL_EPSILON * ms + LDBL_MIN;
-    mu = TP_ERR_ULPS * LDBL_EPSILON * mu;
-    if (hu == 0.0L && mu == 0.0L) {
-        *excess = hs - ms;
+    ms = TP_ERR_ULPS * TP_Q_EPS * ms + TP_Q_MIN;
+    mu = TP_ERR_ULPS * TP_Q_EPS * mu;
+    if (hu == (tp_q)0.0 && mu == (tp_q)0.0) {
+        x = hs - ms;
         *exponent = -2 * s;
     } else { /* an unscaled part: combine in unscaled units */
-        *excess = hu - mu + tp_ldexp(hs - ms, -2 * s) - LDBL_MIN;
+        x = hu - mu + tp_ldexp(hs - ms, -2 * s) - TP_Q_MIN;
         *exponent = 0;
     }
-    return *excess - *excess == 0.0L && *excess <= 0.0L;
+    *excess = (long double)x;
+    return x - x == (tp_q)0.0 && x <= (tp_q)0.0;
 }
 
 /* |r| without underflow: the largest component times the norm of r over it */
-static long double tp_norm_scaled(const long double r[3])
+static tp_q tp_norm_scaled(const tp_q r[3])
 {
-    long double m = tp_absl(r[0]), x, y, z;
-    m = tp_absl(r[1]) > m ? tp_absl(r[1]) : m;
-    m = tp_absl(r[2]) > m ? tp_absl(r[2]) : m;
-    if (m == 0.0L)
-        return 0.0L;
+    tp_q m = tp_absq(r[0]), x, y, z;
+    m = tp_absq(r[1]) > m ? tp_absq(r[1]) : m;
+    m = tp_absq(r[2]) > m ? tp_absq(r[2]) : m;
+    if (m == (tp_q)0.0)
+        return (tp_q)0.0;
     x = r[0] / m, y = r[1] / m, z = r[2] / m;
-    return m * tp_sqrtl(x * x + y * y + z * z);
+    return m * tp_sqrtq(x * x + y * y + z * z);
 }
 
 /* How far scene s is from rest: its link's length, or that length's distance from the rest
  * length (neo-Hookean spring, user potential). */
 static long double tp_rest_dist(tp_rest s, const edmi_system *sys)
 {
-    long double r[3], d;
+    tp_q r[3], d;
     tp_link_vec(sys, 0, r);
     d = tp_norm_scaled(r);
     if (s == TP_REST_NEO_HOOKE || s == TP_REST_USER)
-        d = tp_absl(d - 1.0L); /* both rest lengths are 1 */
-    return d;
+        d = tp_absq(d - (tp_q)1.0); /* both rest lengths are 1 */
+    return (long double)d;
 }
 
-/* H of a state of a tp_rest scene (no field), in long double: for the user potential's
- * energies, O(1) (no scaling) */
+/* H of a state of a tp_rest scene (no field), in tp_q: for the user potential's energies,
+ * O(1) (no scaling) */
 static long double tp_rest_h(const edmi_system *s)
 {
-    long double h = 0.0L, r[3], v, m;
+    tp_q h = (tp_q)0.0, r[3], v, m;
     int a, i, j;
     for (a = 0; a < s->n_bodies; a++)
         for (i = 0; i < 3; i++)
-            h += (long double)s->body[a].p[i] * (long double)s->body[a].p[i] /
-                 (2.0L * (long double)s->body[a].m);
+            h += (tp_q)s->body[a].p[i] * (tp_q)s->body[a].p[i] / ((tp_q)2.0 * (tp_q)s->body[a].m);
     for (j = 0; j < s->n_links; j++) {
         tp_link_vec(s, j, r);
         if (tp_homogeneous(&s->link[j].pot))
-            h += 0.5L * (long double)s->link[j].pot.a * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+            h += (tp_q)0.5 * (tp_q)s->link[j].pot.a * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
         else if (tp_rest_pot(&s->link[j].pot, r, &v, &m))
             h += v;
     }
-    return h;
+    return (long double)h;
 }
 
 long double tp_rest_bound(tp_rest s, long double qmax)
@@ -1002,19 +1123,20 @@ void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, lon
                         st->qmax = tp_absl((long double)tp_sys.link[j].anchor[i]);
         }
         if (s == TP_REST_USER) {
-            long double r[3], x;
+            tp_q r[3];
+            long double x;
             edmi_step_result rr;
             st->ref_status = edmi_step(&tp_ref, &tp_work, dt, &rr);
             st->ref_guarded += rr.guard_action != 0;
             if (st->ref_status != EDMI_OK)
                 break;
             for (i = 0; i < 3; i++)
-                r[i] = (long double)tp_sys.body[0].q[i] - (long double)tp_ref.body[0].q[i];
-            x = tp_norm_scaled(r);
+                r[i] = (tp_q)tp_sys.body[0].q[i] - (tp_q)tp_ref.body[0].q[i];
+            x = (long double)tp_norm_scaled(r);
             st->ref_diff = x > st->ref_diff ? x : st->ref_diff;
             for (i = 0; i < 3; i++)
-                r[i] = (long double)tp_ref.body[0].q[i];
-            x = tp_norm_scaled(r);
+                r[i] = (tp_q)tp_ref.body[0].q[i];
+            x = (long double)tp_norm_scaled(r);
             st->ref_amp = x > st->ref_amp ? x : st->ref_amp;
         }
     }

@@ -6,25 +6,39 @@
 
 #include "../edmi.h"
 
+/* The check's arithmetic, tp_q: __float128 on the x86-64 host (GCC, clang), long double
+ * elsewhere (the Arm targets, where it is double) or with TP_NO_FLOAT128. Its name and
+ * epsilon, for reports (2^-112 for binary128). */
+const char *tp_q_name(void);
+long double tp_q_eps(void);
+
 /* H(s1) - H(s0) of two stored states of the same system (anchors where each state has them),
- * evaluated term by term in long double: dh, with err a bound on its rounding error (the
- * check's own resolution), and w = work_ext + work_anchor + T(s0) - T(s1), the reported works
- * plus what the energy tank gave (edmi_system.tank before and after): the guard's inequality
- * is dh <= w. Built-in potentials other than user ones. Returns 0 if a term cannot be
- * evaluated. */
+ * evaluated term by term in tp_q: dh, with err a bound on its rounding error (the check's
+ * own resolution), and w = work_ext + work_anchor + T(s0) - T(s1), the reported works plus
+ * what the energy tank gave (edmi_system.tank before and after): the guard's inequality is
+ * dh <= w. The values are reported in long double, each rounded once from tp_q; the
+ * inequality is decided in tp_q before that rounding (broken, unresolved): compare those,
+ * not dh - w with err, which loses what binary128 resolved. Built-in potentials other than
+ * user ones. Returns 0 if a term cannot be evaluated. */
 typedef struct tp_delta {
-    long double dh;  /* H(s1) - H(s0) */
-    long double w;   /* res.work_ext + res.work_anchor + s0->tank - s1->tank */
-    long double err; /* |computed dh - exact dh| <= err */
-    long double mag; /* the magnitude of dh's terms (what a plain evaluation errs by, per unit
-                        of round-off) */
+    long double dh;   /* H(s1) - H(s0) */
+    long double w;    /* res.work_ext + res.work_anchor + s0->tank - s1->tank */
+    long double err;  /* |computed dh - exact dh| <= err */
+    long double mag;  /* the magnitude of dh's terms (what a plain evaluation errs by, per
+                         unit of round-off) */
+    long double diff; /* dh - w, evaluated in tp_q and then rounded: the inequality's margin */
+    int broken;       /* dh - w > err in tp_q: the inequality broken beyond the check's
+                         resolution */
+    int unresolved;   /* |dh - w| <= err in tp_q: below the check's resolution */
+    int rose;         /* dh > err in tp_q: H rose beyond the check's resolution */
 } tp_delta;
 
 int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
                tp_delta *d);
 
-/* H of a stored state in long double (for drifts relative to H0); LDBL_MAX for a coupled M
- * that is not positive definite to long double's resolution (not evaluated). */
+/* H of a stored state, evaluated in tp_q and rounded to long double (for drifts relative to
+ * H0); LDBL_MAX for a coupled M that is not positive definite to long double's resolution
+ * (not evaluated). */
 long double tp_h(const edmi_system *s);
 
 /* The scenes. */
@@ -53,12 +67,13 @@ void tp_control(tp_scene s, edmi_system *sys, long n);
 typedef struct tp_stats {
     long steps;              /* accepted steps */
     edmi_status status;      /* EDMI_OK or the first failing status */
-    long violations;         /* steps with dh > w + err: the inequality broken */
+    long violations;         /* steps with dh > w + err: the inequality broken (in tp_q) */
     long rises;              /* steps with dh > err (H rose; legitimate only with work) */
     long uncertain;          /* steps where |dh - w| <= err: below the check's resolution */
     long fallbacks;          /* steps that took the fallback state */
     long guarded;            /* steps the guard changed */
     long iterations;         /* Newton corrections summed */
+    /* the rest accumulated in tp_q, reported in long double */
     long double worst;       /* max over steps of (dh - w) / H scale: the passivity margin */
     long double h0, h_last;  /* H at start and end */
     long double sum_w;       /* sum of w: the work supplied */
@@ -71,6 +86,9 @@ typedef struct tp_stats {
     long double max_window;  /* max over windows of H_n - H_m - sum W, over H0 */
     long double max_cap;     /* the largest capacity reported, over H0 */
     long double window_err;  /* the window check's own accumulated rounding bound, over H0 */
+    int window_beyond_cap;   /* max_window > max_cap + window_err, decided in tp_q: some
+                                window rose by more than the largest capacity (a violation
+                                where no work is done) */
 } tp_stats;
 
 /* Take n steps of scene s (built with prm), checking the inequality after every step. */
@@ -80,8 +98,8 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st);
  * Scenes that settle to rest (energies that underflow, distances down to the subnormal range,
  * a body exactly on its anchor) and a user potential identical to a built-in one, run with
  * the inequality checked after every step by tp_rest_delta (below), which evaluates both
- * stored states in long double on values scaled by a power of two: exact where long double
- * has no wider range than double (the Arm targets), where H's terms would underflow. */
+ * stored states in tp_q on values scaled by a power of two: exact where tp_q has no wider
+ * range than double (long double on the Arm targets), where H's terms would underflow. */
 typedef enum tp_rest {
     TP_REST_ANCHOR = 0, /* zero-rest-length spring edmi_pot_harmonic(1e4, 0) from m 0.1 to an
                            anchor at the origin, dt 1e-3, from q (0.01, 0, 0), p 0 */
@@ -125,8 +143,9 @@ edmi_status tp_rest_build(tp_rest s, const edmi_params *prm, int damper, int use
  * link vectors scaled by 2^s, with T and W by 2^2s: H is homogeneous of degree 2 there, and s
  * is chosen to bring the largest to ~1, so nothing underflows that matters), harmonic springs
  * with r0 > 0, neo-Hookean springs and tp_user_harmonic_fn (evaluated unscaled). *excess:
- * dh - w - err in units of 2^-2s, *exponent: -2s. 1 if the inequality holds, 0 if it is broken
- * or a term cannot be evaluated. */
+ * dh - w - err in units of 2^-2s (evaluated in tp_q, then rounded to long double: its sign
+ * kept), *exponent: -2s. 1 if the inequality holds (decided in tp_q), 0 if it is broken or a
+ * term cannot be evaluated. */
 int tp_rest_delta(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
                   long double *excess, int *exponent);
 
@@ -154,7 +173,7 @@ typedef struct tp_rest_stats {
     edmi_status ref_status; /* TP_REST_USER: the reference's status (the run stops if not OK) */
     long ref_guarded;      /* TP_REST_USER: steps the guard changed in the reference */
     long double h0, h_end, h_ref_end; /* TP_REST_USER: H at the start, at the end, and the
-                                         reference's at the end (long double, own formulas) */
+                                         reference's at the end (tp_q, own formulas) */
 } tp_rest_stats;
 
 /* The bounds the suite (tests/test_guard.c, where they are justified) and the soak assert:

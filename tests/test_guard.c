@@ -3,7 +3,7 @@
  * fixed point, user potentials guarded as the built-ins are.
  *
  * Every energy assertion here is checked by tests/passive.c, which evaluates H of both stored
- * states in long double by its own formulas: the library's double-word arithmetic and its
+ * states in tp_q (__float128 on the x86-64 host, long double elsewhere) by its own formulas: the library's double-word arithmetic and its
  * error bounds are not consulted. A step violates passivity when
  *     H(q_n+1, p_n+1) - H(q_n, p_n) > work_ext + work_anchor + err,
  * err being the check's own rounding bound (passive.c). */
@@ -81,7 +81,7 @@ static void gd_scenes(void)
                 CHECK(st.window_violations == 0);
                 CHECK(st.tank_violations == 0);
                 if (no_work)
-                    CHECK(st.max_window <= st.max_cap + st.window_err);
+                    CHECK(!st.window_beyond_cap);
                 if (no_work && cap0)
                     CHECK(st.rises == 0);
                 if (sc != TP_STIFF && k < 3) /* GE, PM, PT solve every step here */
@@ -119,8 +119,11 @@ static void gd_guard_off_rises(edmi_scheme s)
  * comparison errs by a few 2^-64 of the terms, so an exact H change of 0 to -1e-18 of them can
  * look like a rise: measured on the paper's spring in double before the guard aimed below
  * 2^-58 of them, 23 (PM) and 6 (PT) such steps in 10^5 (true changes -7e-19 to -6e-16,
- * checked in binary128). Here tp_h of both stored states is compared as it is, no bound; on
- * the Arm targets long double is double, which still resolves float states by 29 bits. */
+ * checked in binary128). Here tp_h of both stored states is compared as it is, no bound:
+ * on the x86-64 host tp_h is H evaluated in binary128 and rounded once to long double, so
+ * this compares x87 values that are nearly correctly rounded (not x87's own rounding along
+ * the formulas, which the measurement above was made with); on the Arm targets long double
+ * is double, which still resolves float states by 29 bits. */
 #define GD_PLAIN_STEPS 30000L
 
 static edmi_system gd_sys, gd_old;
@@ -229,7 +232,7 @@ static void gd_no_lockup(edmi_scheme s)
         gd_old = gd_sys;
         if (!CHECK_STATUS(edmi_step(&gd_sys, &gd_work, EDMI_R(1e-3), &res), EDMI_OK))
             break;
-        if (!CHECK(tp_delta_h(&gd_old, &gd_sys, &res, &dd) && dd.dh - dd.w <= dd.err))
+        if (!CHECK(tp_delta_h(&gd_old, &gd_sys, &res, &dd) && !dd.broken))
             break;
     }
     d = (long double)gd_sys.body[0].q[0] * gd_sys.body[0].q[0] +
@@ -280,7 +283,7 @@ static void gd_moving_anchor(void)
                  ((long double)gd_sys.link[0].anchor[i] - (long double)gd_old.link[0].anchor[i]);
         bad += gd_absl(w - (long double)res.work_anchor) > (long double)EDMI_EPS * gd_absl(w);
         bad += gd_sys.link[0].anchor[0] != x[0];
-        bad += !tp_delta_h(&gd_old, &gd_sys, &res, &d) || d.dh - d.w > d.err;
+        bad += !tp_delta_h(&gd_old, &gd_sys, &res, &d) || d.broken;
     }
     CHECK(bad == 0);
     CHECK_NEAR(gd_sys.link_force[0][0], m * g[0], EDMI_R(0.0), EDMI_R(1e-3));
@@ -311,7 +314,7 @@ static void gd_fallback(void)
           gd_sys.body[0].q[2] == gd_old.body[0].q[2]);
     CHECK(gd_sys.body[0].p[0] == EDMI_R(0.0) && gd_sys.body[0].p[1] == EDMI_R(0.0) &&
           gd_sys.body[0].p[2] == EDMI_R(0.0));
-    CHECK(tp_delta_h(&gd_old, &gd_sys, &res, &d) && d.dh - d.w <= d.err && d.dh < 0.0L);
+    CHECK(tp_delta_h(&gd_old, &gd_sys, &res, &d) && !d.broken && d.dh < 0.0L);
     CHECK(gd_sys.t == gd_old.t + dt);
 }
 
