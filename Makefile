@@ -156,7 +156,7 @@ $(BUILD)/soak-%/soak: $(SOAK_SRC) tests/passive.h tests/harness.h examples/hapti
 	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* $(SOAK_SRC) edmi.c -o $@ $(LDLIBS)
 
 soak: $(BUILD)/soak-float/soak $(BUILD)/soak-double/soak
-	bash tests/run_all.sh '$(BUILD)/soak-float/soak $(SOAK_STEPS)' \
+	bash tests/run_all.sh -p '$(BUILD)/soak-float/soak $(SOAK_STEPS)' \
 	    '$(BUILD)/soak-double/soak $(SOAK_STEPS)'
 
 # ---- fuzz: every public function under libFuzzer, both precisions (tests/fuzz/) -------------
