@@ -1565,6 +1565,7 @@ static int edmi__params_valid(const edmi_params *p)
            edmi__finite(p->tol_q) && p->tol_q > EDMI__ZERO && edmi__finite(p->tol_r) &&
            p->tol_r >= EDMI__ZERO && edmi__finite(p->tol_a) && p->tol_a >= EDMI__ZERO &&
            p->l_max >= 1 && edmi__finite(p->tank_cap) && p->tank_cap >= EDMI__ZERO &&
+           p->substep_levels >= 0 && p->substep_levels <= EDMI_MAX_SUBSTEP_LEVELS &&
            (p->guard == EDMI_GUARD_AUTO || p->guard == EDMI_GUARD_ON ||
             p->guard == EDMI_GUARD_OFF);
 }
@@ -3522,13 +3523,16 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     return EDMI_OK;
 }
 
-/* The fallback state (params.fallback, after Newton failed; and the guard's stop at the
- * bottom of the range): positions kept, momenta set to the frame's (edmi__guard_stop), or to
- * 0 if rounding those would not certify. Passive by construction: K does not grow, V changes
- * only where an anchor moved, and work_anchor is that change rounded upwards (the work a hand
- * does moving its end of a frozen link); with the guard on it fills the tank by what it
+/* The fallback state (params.fallback, where a step or substep failed; and the guard's stop
+ * at the bottom of the range): positions kept, momenta set to the frame's (edmi__guard_stop),
+ * or to 0 if rounding those would not certify. Passive by construction: K does not grow, V
+ * changes only where an anchor moved, and work_anchor is that change rounded upwards (the work
+ * a hand does moving its end of a frozen link); with the guard on it fills the tank by what it
  * removes, up to the capacity. link_force is each link's force V'(d) r/d at the end of the
- * step. */
+ * step. Where no anchor moves nothing can fail: H changes by K's change alone, and where even
+ * that cannot be evaluated (beyond the range) the momenta are set to 0, K_n+1 = 0 <= K_n. A
+ * moved anchor that ends on its body or where its energy is beyond the range fails the call
+ * (EDMI_ERR_DIVERGED, EDMI_ERR_RANGE): no state with the bodies kept is passive then. */
 static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
                                 edmi_step_result *res)
 {
@@ -3556,7 +3560,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         edmi_link_ws *w = &work->lw[j];
-        edmi_real r1[3], d1;
+        edmi_real r1[3], d1, dv = EDMI__ZERO;
         edmi_pot_parts pp;
         edmi__sub(sys->body[lk->a].q, edmi__end_b(lk, w, (const edmi_real (*)[3])work->q1), r1);
         st = edmi__end_valid(lk, r1); /* an anchor moved onto its body, or out of a domain */
@@ -3571,51 +3575,65 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
             for (i = 0; i < 3; i++)
                 xh = edmi__max(xh, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
         } else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK) {
-            w->beta = pp.v[1] / d1;
+            dv = pp.v[1];
+            w->beta = dv / d1;
             s1 += edmi__pot_mag(&pp, d1);
             so += w->m0 + edmi__pot_mag(&pp, d1);
         }
-        for (i = 0; i < 3; i++)
-            w->f[i] = w->beta * r1[i];
+        for (i = 0; i < 3; i++) /* V'(d) times the unit vector: finite where V' is */
+            w->f[i] = edmi__is_linear(&lk->pot) ? w->beta * r1[i] : dv * (r1[i] / d1);
         if (!edmi__finite3(w->f))
-            return EDMI_ERR_RANGE;
+            return EDMI_ERR_RANGE; /* a moved anchor's force (the kept links' are V'(d_n)) */
     }
-    edmi__set_scale(&bal, xh, so);
-    bal.scheme_on = 0;
-    st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
-    if (st != EDMI_OK)
-        return EDMI_ERR_PASSIVITY;
-    wa = edmi__dw_real(bal.dv) + edmi__abs(bal.dv.lo) + bal.err_v;
-    wa += edmi__abs(wa) * (EDMI_R(4.0) * EDMI_EPS);
-    wa = edmi__down2(&bal, wa) + EDMI__REAL_MIN; /* rounded up, a subnormal quotient too */
-    if (sys->n_moving == 0)
-        wa = EDMI__ZERO; /* nothing moved: every link term is exactly 0 (edmi__delta_v) */
     res->work_ext = EDMI__ZERO;
-    res->work_anchor = wa;
     res->diss_damping = EDMI__ZERO;
     res->diss_scheme = EDMI__ZERO;
     res->diss_guard = EDMI__ZERO;
     res->guard_action = 0;
-    bal.w = edmi__dw_up2(&bal, edmi__dw_of(wa));
+    res->work_anchor = EDMI__ZERO;
+    edmi__set_scale(&bal, xh, so);
+    bal.scheme_on = 0;
+    if (sys->n_moving > 0) {
+        st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
+        if (st != EDMI_OK)
+            return EDMI_ERR_RANGE; /* the moved anchors' energy beyond the range */
+        wa = edmi__dw_real(bal.dv) + edmi__abs(bal.dv.lo) + bal.err_v;
+        wa += edmi__abs(wa) * (EDMI_R(4.0) * EDMI_EPS);
+        res->work_anchor = edmi__down2(&bal, wa) + EDMI__REAL_MIN; /* rounded up, a subnormal
+                                                                      quotient too */
+        if (!edmi__finite(res->work_anchor))
+            return EDMI_ERR_RANGE;
+    } else { /* nothing moved: every link term is exactly 0 (edmi__delta_v) */
+        bal.dv = edmi__dw_of(EDMI__ZERO);
+        bal.err_v = bal.size_v = EDMI__ZERO;
+    }
+    bal.w = edmi__dw_up2(&bal, edmi__dw_of(res->work_anchor));
     t.tank = edmi__guard_on(&sys->params) ? edmi__up2(&bal, sys->tank) : EDMI__ZERO;
     for (pass = 0; pass < 2; pass++) {
         edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
-        if (!edmi__excess(&bal, &t))
-            return EDMI_ERR_PASSIVITY;
-        if (edmi__certified(&t))
+        if (edmi__excess(&bal, &t) && edmi__certified(&t))
             break;
         for (a = 0; a < sys->n_bodies; a++)
             for (i = 0; i < 3; i++)
                 work->p1[a][i] = EDMI__ZERO;
     }
-    if (!edmi__certified(&t))
-        return EDMI_ERR_PASSIVITY;
-    res->dh = edmi__down2(&bal, edmi__dw_real(t.h));
-    res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
+    res->tank = sys->tank;
+    if (pass == 2) {
+        /* K_n+1 = 0 could not be evaluated either (beyond the range): with the positions and
+         * anchors kept, H_n+1 - H_n = -K_n <= 0 exactly, and the tank keeps its level */
+        if (sys->n_moving > 0)
+            return EDMI_ERR_RANGE;
+        res->dh = EDMI__ZERO;
+        res->certificate = EDMI_CERT_NONE;
+        after = sys->tank;
+    } else {
+        res->dh = edmi__down2(&bal, edmi__dw_real(t.h));
+        res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
+        after = edmi__down2(&bal, t.after);
+    }
     if (edmi__guard_on(&sys->params)) {
         res->tank_cap = sys->params.tank_cap * EDMI_EPS * s1;
         res->tank_cap = res->tank_cap < EDMI_REAL_MAX ? res->tank_cap : EDMI_REAL_MAX;
-        after = edmi__down2(&bal, t.after);
         res->tank = after >= EDMI__REAL_MIN ? (after < res->tank_cap ? after : res->tank_cap)
                                             : EDMI__ZERO;
     }
@@ -3712,21 +3730,31 @@ static void edmi__clear_result(edmi_step_result *res)
     res->certificate = EDMI_CERT_NONE;
     res->tank = EDMI__ZERO;
     res->tank_cap = EDMI__ZERO;
+    res->substeps = 0;
+    res->fallbacks = 0;
+    res->cause = EDMI_OK;
 }
 
-/* The round-off noise of the scaled residual at the current iterate: eps times the
- * magnitudes summed into each body's R_q = q1 - q0 - h (p0 + p1) and R_p = p1 - p0 + sum of
- * impulses, over the body's scales. A link's impulse f = dt beta r_m carries the rounding of
- * its potential's terms, which near a rest length or an equilibrium (LJ's two parts, GE's
- * convex and concave halves) cancel to far less than themselves: bounded here by
- * |f| + |r_m| times the largest entry of the link's tangent block (d f / d r_n+1, ~dt V''),
- * plus the LG quotient's own cancellation (edmi_link_ws.noise), plus the tangent block times
- * the grid of the iterate's own positions. Computed only when Newton's
- * residual stopped halving; it reuses work->rhs, which the next correction overwrites. */
-static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
+/* Every stop that returns EDMI_OK has each body's residual within this factor of its
+ * round-off noise (edmi__solved; edmi.h states the bound). */
+#define EDMI__SOLVED ((edmi_real)EDMI_SOLVED)
+
+/* The round-off noise of each body's residual at the current iterate, into work->rhs (which
+ * the next correction overwrites): rhs[2a] for R_q, rhs[2a + 1] for R_p, EDMI_EPS times the
+ * magnitudes summed into them. R_q = q1 - q0 - h (p0 + p1) (plus the coupled masses' rows):
+ * |q_n| + |q1| + dt/m (|p_n| + |p1|) =: Q_a. R_p = p1 - p0 + the impulses: |p_n| + |p1|, the
+ * ports' and the field's dt |F|, and per link the impulse dt |beta r_m| and its tangent block
+ * (d f / d r_n+1, ~dt V'') times 3 (|r_m| + Q_a + Q_b): the grid of the iterate's own
+ * positions and the resolution Newton stops at (a correction below eps of the motion), which
+ * near rest away from the origin (|r| ~ 1e-15 at |q| ~ 1) and on a stiff step (omega dt =
+ * 100, dt |p| / m >> |q|) is far above the force's own rounding; plus the potential's
+ * cancelling terms (LJ's two parts, GE's convex and concave halves, the LG quotient's
+ * eps |V| / |d1 - d0|: edmi_link_ws.noise), and per damper c (|r_n| + |r1| + Q_a + Q_b). All
+ * of it from the iterate and the step's start: nothing a far predictor inflates. */
+static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
-    edmi_real *acc = work->rhs, fl = EDMI__ZERO; /* acc[3a]: |R_q| terms, acc[3a+1]: |R_p| */
+    edmi_real *acc = work->rhs;
     int a, j, i;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
@@ -3734,18 +3762,30 @@ static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work,
         /* the subnormal unit REAL_MIN eps too: below the smallest normal, rounding is absolute
          * (a body settling onto its anchor in float reaches q ~ 1e-41, where Newton's
          * residual cannot fall below ~1e-4 of its scales) */
-        acc[3 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np) +
+        acc[2 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np) +
                      EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
-        acc[3 * a + 1] = EDMI_EPS * np + EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
+        acc[2 * a + 1] = EDMI_EPS * np + EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
         if (sys->has_field)
-            acc[3 * a + 1] += EDMI_EPS * dt * bd->m * edmi__norm(sys->g);
+            acc[2 * a + 1] += EDMI_EPS * dt * edmi__abs(edmi__mass_row(sys, a)) *
+                              edmi__norm(sys->g);
     }
+#if EDMI_MAX_MASS_GAP > 0
+    for (a = 1; a < sys->n_bodies; a++) /* R_q's coupled terms m_ab / m_aa (q1_b - q_n,b) */
+        for (j = 0; j < EDMI_MAX_MASS_GAP && j < a; j++) {
+            edmi_real m = edmi__abs(sys->mass_off[a][j]);
+            int b = a - 1 - j;
+            acc[2 * a] += EDMI_EPS * m / sys->body[a].m *
+                          (edmi__norm(q1[b]) + edmi__norm(sys->body[b].q));
+            acc[2 * b] += EDMI_EPS * m / sys->body[b].m *
+                          (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q));
+        }
+#endif
     for (i = 0; i < sys->n_forced; i++)
-        acc[3 * sys->forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->forced[i]]);
+        acc[2 * sys->forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->forced[i]]);
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         const edmi_link_ws *w = &work->lw[j];
-        edmi_real r1[3], rm[3], k[9], kmax = EDMI__ZERO, x, nrm;
+        edmi_real r1[3], rm[3], k[9], kmax = EDMI__ZERO, x, nrm, qb;
         edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
         for (i = 0; i < 3; i++)
             rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
@@ -3756,21 +3796,71 @@ static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work,
                                           force's slope around it is up to dt k */
             kmax = edmi__max(kmax, dt * edmi__abs(lk->pot.a));
         nrm = edmi__norm(rm);
-        /* the iterate lives on its grid: a unit of q_a or of the other end moves the force by
-         * the tangent times it, eps (|q_a| + |x_b|), which near rest away from the origin
-         * (|r| ~ 1e-15 at |q| ~ 1) is far above the force's own rounding */
-        x = EDMI_R(4.0) * EDMI_EPS *
-                (dt * edmi__abs(w->beta) * nrm +
-                 EDMI_R(3.0) * kmax *
-                     (nrm + edmi__norm(q1[lk->a]) + edmi__norm(edmi__end_b(lk, w, q1)))) +
+        qb = lk->b == EDMI_ANCHOR ? EDMI_EPS * edmi__norm(w->x1) : acc[2 * lk->b];
+        x = EDMI_R(4.0) * (EDMI_EPS * dt * edmi__abs(w->beta) * nrm +
+                           EDMI_R(3.0) * kmax * (EDMI_EPS * nrm + acc[2 * lk->a] + qb)) +
             w->noise;
-        acc[3 * lk->a + 1] += x;
+        acc[2 * lk->a + 1] += x;
         if (lk->b != EDMI_ANCHOR)
-            acc[3 * lk->b + 1] += x;
+            acc[2 * lk->b + 1] += x;
     }
+#if EDMI_MAX_DAMPERS > 0
+    for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
+        const edmi_link *lk = &sys->link[sys->damper[j].link];
+        const edmi_link_ws *w = &work->lw[sys->damper[j].link];
+        edmi_real r1[3], x, qb;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        qb = lk->b == EDMI_ANCHOR ? EDMI_EPS * edmi__norm(w->x1) : acc[2 * lk->b];
+        x = EDMI_R(4.0) * sys->damper[j].c *
+            (EDMI_EPS * (edmi__norm(w->r0) + edmi__norm(r1)) + acc[2 * lk->a] + qb);
+        acc[2 * lk->a + 1] += x;
+        if (lk->b != EDMI_ANCHOR)
+            acc[2 * lk->b + 1] += x;
+    }
+#endif
+}
+
+/* The largest noise of edmi__noise over the bodies' scales: what the scaled residual cannot
+ * fall below. Computed only when Newton's residual stopped halving. */
+static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
+{
+    edmi_real fl = EDMI__ZERO;
+    int a;
+    edmi__noise(sys, work, dt);
     for (a = 0; a < sys->n_bodies; a++)
-        fl = edmi__max(fl, edmi__max(acc[3 * a] / work->sq[a], acc[3 * a + 1] / work->sp[a]));
+        fl = edmi__max(fl, edmi__max(work->rhs[2 * a] / work->sq[a],
+                                     work->rhs[2 * a + 1] / work->sp[a]));
     return fl;
+}
+
+/* Whether the iterate solves the scheme's equations to within f times its round-off noise,
+ * body by body: |R_q,a| <= f noise_q,a and |R_p,a| <= f noise_p,a (edmi__noise). The test
+ * every successful step passes (edmi.h, EDMI_STOP_CONVERGED): judged by the terms' own
+ * magnitudes, not by the predictor's residual, which deep in a repulsive wall is 1e30 and
+ * made an untouched iterate look converged. */
+#ifdef EDMI_DEBUG_ACCEPT
+void edmi_debug_accept(edmi_real x); /* measurement hook: the largest |R| / noise of a stop */
+#endif
+static int edmi__solved(const edmi_system *sys, edmi_workspace *work, edmi_real dt, edmi_real f)
+{
+    int a;
+    edmi__noise(sys, work, dt);
+#ifdef EDMI_DEBUG_ACCEPT
+    {
+        edmi_real x = EDMI__ZERO;
+        for (a = 0; a < sys->n_bodies; a++)
+            x = edmi__max(x, edmi__max(edmi__norm(work->rq[a]) / work->rhs[2 * a],
+                                       edmi__norm(work->rp[a]) / work->rhs[2 * a + 1]));
+        if (f == EDMI__SOLVED)
+            edmi_debug_accept(x);
+    }
+#endif
+    for (a = 0; a < sys->n_bodies; a++) /* a noise beyond the range judges nothing */
+        if (!(edmi__norm(work->rq[a]) <= f * work->rhs[2 * a]) ||
+            !(edmi__norm(work->rp[a]) <= f * work->rhs[2 * a + 1]) ||
+            !edmi__finite(work->rhs[2 * a]) || !edmi__finite(work->rhs[2 * a + 1]))
+            return 0;
+    return 1;
 }
 
 /* The explicit predictor (edmi__newton): from the residual at (q_n, p_n), R_p = the impulse
@@ -3875,11 +3965,13 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         res->iterations = l;
         res->residual = r;
         res->correction = c * moved;
-        if (prm->tol_r > EDMI__ZERO && r <= prm->tol_r * res->residual0) {
+        if (prm->tol_r > EDMI__ZERO && r <= prm->tol_r * res->residual0 &&
+            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_r / EDMI_EPS))) {
             res->stop = EDMI_STOP_TOL_R;
             return EDMI_OK;
         }
-        if (prm->tol_a > EDMI__ZERO && r <= prm->tol_a) {
+        if (prm->tol_a > EDMI__ZERO && r <= prm->tol_a &&
+            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_a / EDMI_EPS))) {
             res->stop = EDMI_STOP_TOL_A;
             return EDMI_OK;
         }
@@ -3889,8 +3981,12 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
                                     cprev <= EDMI_R(0.25) * cprev2 &&
                                     (chord ? c * c <= EDMI_EPS * cprev
                                            : c * c * c <= EDMI_EPS * cprev * cprev)))) {
-            res->stop = EDMI_STOP_CONVERGED;
-            return EDMI_OK;
+            if (r == EDMI__ZERO || edmi__solved(sys, work, dt, EDMI__SOLVED)) {
+                res->stop = EDMI_STOP_CONVERGED;
+                return EDMI_OK;
+            }
+            if (c == EDMI__ZERO) /* the iterate cannot move: every further correction is 0 */
+                return EDMI_ERR_NO_CONVERGENCE;
         }
         contracted = l == 1 || c <= EDMI__CHORD_RATE * cprev;
         if (chord && (!contracted || r > rprev))
@@ -3900,7 +3996,8 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         if (l >= 2 && r > EDMI__HALF * rprev &&
             ((rprev <= EDMI__SQRT_EPS * res->residual0 && r <= EDMI__SQRT_EPS * res->residual0 &&
               r <= EDMI_R(2.0) * rprev) ||
-             r <= EDMI__NOISE_FACTOR * edmi__noise_floor(sys, work, dt))) {
+             r <= EDMI__NOISE_FACTOR * edmi__noise_floor(sys, work, dt)) &&
+            edmi__solved(sys, work, dt, EDMI__SOLVED)) {
             res->stop = EDMI_STOP_STALLED;
             return EDMI_OK;
         }
@@ -3909,33 +4006,24 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
     }
 }
 
-static int edmi__is_solver_failure(edmi_status st)
+/* The failures after the input was accepted: substeps and the fallback take them over. */
+static int edmi__is_step_failure(edmi_status st)
 {
     return st == EDMI_ERR_SINGULAR || st == EDMI_ERR_NO_CONVERGENCE || st == EDMI_ERR_DIVERGED ||
-           st == EDMI_ERR_PASSIVITY;
+           st == EDMI_ERR_PASSIVITY || st == EDMI_ERR_RANGE;
 }
 
-edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                      edmi_step_result *res)
+/* One step of dt from the system's state (its links prepared), into work and *res; nothing
+ * stored: the predictor q_n+1,(0) = q_n, p_n+1,(0) = p_n, Newton, then the work, the energy
+ * balance and the guard (edmi__finish). */
+static edmi_status edmi__attempt(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                 edmi_step_result *res)
 {
-    edmi_step_result local;
     edmi_real r;
     edmi_status st;
-    int a, i;
-    if (!res)
-        res = &local;
+    int a;
     edmi__clear_result(res);
-    if (!sys || !work)
-        return EDMI_ERR_NULL;
-    st = edmi__validate(sys, dt);
-    if (st != EDMI_OK)
-        return st;
-    st = edmi__prepare_links(sys, work);
-    if (st != EDMI_OK)
-        return st;
     res->tank = sys->tank; /* the guard sets the tank after the step */
-
-    /* Predictor: q_n+1,(0) = q_n, p_n+1,(0) = p_n. */
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(sys->body[a].q, work->q1[a]);
         edmi__copy3(sys->body[a].p, work->p1[a]);
@@ -3950,30 +4038,225 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     res->residual = res->residual0;
     if (!edmi__finite(res->residual0)) /* beyond the precision's range: nothing to solve */
         return EDMI_ERR_RANGE;
-
     st = edmi__newton(sys, work, dt, res);
-    if (st == EDMI_OK)
-        st = edmi__finish(sys, work, dt, res);
-    if (st != EDMI_OK) {
-        if (!sys->params.fallback || !edmi__is_solver_failure(st))
-            return st;
-        st = edmi__freeze(sys, work, res);
-        if (st != EDMI_OK)
-            return st;
-        res->stop = EDMI_STOP_FALLBACK;
-    }
+    return st == EDMI_OK ? edmi__finish(sys, work, dt, res) : st;
+}
 
-    /* Commit. */
+/* The fallback after a failed attempt (edmi_params.fallback): with the guard on, Newton's last
+ * iterate where l_max stopped it closer than the predictor (by half, in the scaled residual),
+ * made passive by the guard, so that a run of hard steps keeps moving; else the frozen state
+ * (edmi__freeze). */
+static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                  edmi_step_result *res, edmi_status failure)
+{
+    edmi_status st;
+    if (failure == EDMI_ERR_NO_CONVERGENCE && edmi__guard_on(&sys->params) &&
+        res->residual <= EDMI__HALF * res->residual0) {
+        st = edmi__finish(sys, work, dt, res);
+        if (st == EDMI_OK) {
+            res->stop = EDMI_STOP_FALLBACK;
+            return EDMI_OK;
+        }
+    }
+    st = edmi__freeze(sys, work, res);
+    res->stop = EDMI_STOP_FALLBACK;
+    return st;
+}
+
+/* Store the attempt in work as the system's state (the clock advances in edmi_step). */
+static void edmi__commit(edmi_system *sys, const edmi_workspace *work, edmi_real tank)
+{
+    int a, i;
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(work->q1[a], sys->body[a].q);
         edmi__copy3(work->p1[a], sys->body[a].p);
     }
-    for (i = 0; i < sys->n_links; i++)
-        edmi__copy3(work->lw[i].f, sys->link_force[i]);
     for (i = 0; i < sys->n_moving; i++)
         edmi__copy3(sys->anchor_next[sys->moving[i]], sys->link[sys->moving[i]].anchor);
     sys->n_moving = 0;
-    sys->tank = res->tank;
+    sys->tank = tank;
+}
+
+/* x rounded upwards (x.hi is x rounded to nearest; one unit up where x.lo > 0). */
+static edmi_real edmi__dw_up(edmi__dw x)
+{
+    return x.lo > EDMI__ZERO ? x.hi + edmi__max(edmi__ulp(x.hi), EDMI__REAL_MIN * EDMI_EPS) : x.hi;
+}
+
+/* Add a stored substep's result *sub into the step's *res. The works are summed exactly
+ * (double-word, in *wx and *wa) and reported rounded upwards, so that the step's inequality
+ * H_n+1 - H_n <= work_ext + work_anchor + T_n - T_n+1 is the sum of the substeps'. */
+static void edmi__add_substep(edmi_step_result *res, const edmi_step_result *sub, edmi__dw *wx,
+                              edmi__dw *wa)
+{
+    *wx = edmi__dw_add(*wx, edmi__dw_of(sub->work_ext));
+    *wa = edmi__dw_add(*wa, edmi__dw_of(sub->work_anchor));
+    res->work_ext = edmi__dw_up(*wx);
+    res->work_anchor = edmi__dw_up(*wa);
+    res->diss_damping += sub->diss_damping;
+    res->diss_scheme += sub->diss_scheme;
+    res->dh += sub->dh;
+    res->diss_guard += sub->diss_guard;
+    res->guard_action |= sub->guard_action;
+    res->certificate = sub->certificate > res->certificate ? sub->certificate : res->certificate;
+    res->residual = edmi__max(res->residual, sub->residual);
+    res->correction = sub->correction;
+    res->lg_switches = sub->lg_switches > res->lg_switches ? sub->lg_switches : res->lg_switches;
+    res->tank = sub->tank;
+    res->tank_cap = sub->tank_cap;
+    res->stop = res->stop == EDMI_STOP_FALLBACK ? res->stop : sub->stop;
+    res->substeps++;
+    res->fallbacks += sub->stop == EDMI_STOP_FALLBACK;
+}
+
+/* Put the step's start back (the bodies, the tank and the moving anchors), after substeps
+ * that failed: the system is then bit-identical to before the call. */
+static void edmi__restore(edmi_system *sys, const edmi_workspace *work, edmi_real tank,
+                          int n_moving)
+{
+    int a, i;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(work->q0[a], sys->body[a].q);
+        edmi__copy3(work->p0[a], sys->body[a].p);
+    }
+    sys->tank = tank;
+    sys->n_moving = n_moving;
+    for (i = 0; i < n_moving; i++) {
+        int j = sys->moving[i];
+        edmi__copy3(work->lw[j].xs, sys->link[j].anchor);
+        edmi__copy3(work->lw[j].xt, sys->anchor_next[j]);
+    }
+}
+
+/* A moving anchor where the substep that starts at pos (of 2^k units of dt) starts or ends:
+ * straight from xs to xt. */
+static void edmi__anchor_at(const edmi_link_ws *w, int pos, int k, edmi_real x[3])
+{
+    edmi_real f = (edmi_real)pos / (edmi_real)(1L << k);
+    int i;
+    for (i = 0; i < 3; i++)
+        x[i] = pos == (1 << k) ? w->xt[i] : w->xs[i] + f * (w->xt[i] - w->xs[i]);
+}
+
+/* The failed step again as substeps (edmi_params.substep_levels = k): two of dt/2, a substep
+ * that fails as two of half its size, down to dt/2^k, each taken, stored and certified as a
+ * step; after a stored substep the next is as long as its start's alignment allows (a hard
+ * moment passed, the rest goes back to longer substeps). A substep of dt/2^k that fails
+ * stores the fallback state (params.fallback) or fails the call, which then restores the
+ * start. Worst case (every attempt failing down to dt/2^k): 2^(k+1) - 2 attempts after the
+ * step's own and 2^k fallbacks. With k = 0 the step's own attempt falls back at once. */
+static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                  edmi_step_result *res, edmi_status cause)
+{
+    edmi_step_result sub;
+    edmi__dw wx = edmi__dw_of(EDMI__ZERO), wa = edmi__dw_of(EDMI__ZERO);
+    edmi_real tank0 = sys->tank, h;
+    edmi_status st = cause;
+    int k = sys->params.substep_levels, n_moving = sys->n_moving, level, pos = 0, a, i, j;
+    int iterations = res->iterations, halvings = res->halvings;
+    edmi_real residual0 = res->residual0;
+    for (h = dt, i = 0; i < k; i++) /* the finest substep stays a normal number */
+        if (!((h *= EDMI__HALF) >= EDMI__REAL_MIN))
+            k = i;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(sys->body[a].q, work->q0[a]);
+        edmi__copy3(sys->body[a].p, work->p0[a]);
+    }
+    for (j = 0; j < sys->n_links; j++)
+        for (i = 0; i < 3; i++)
+            work->lw[j].fsum[i] = EDMI__ZERO;
+    for (i = 0; i < n_moving; i++) {
+        j = sys->moving[i];
+        edmi__copy3(sys->link[j].anchor, work->lw[j].xs);
+        edmi__copy3(sys->anchor_next[j], work->lw[j].xt);
+    }
+    sub = *res; /* k = 0: the step's own attempt (in work) falls back as it is */
+    edmi__clear_result(res);
+    res->cause = cause;
+    res->residual0 = residual0;
+    level = k > 0 ? 1 : 0;
+    while (pos < (1 << k)) {
+        int units = 1 << (k - level);
+        edmi_real frac = (edmi_real)units / (edmi_real)(1L << k); /* a power of two */
+        if (level > 0) {
+            sys->n_moving = n_moving;
+            for (i = 0; i < n_moving; i++) {
+                j = sys->moving[i];
+                edmi__anchor_at(&work->lw[j], pos, k, sys->link[j].anchor);
+                edmi__anchor_at(&work->lw[j], pos + units, k, sys->anchor_next[j]);
+            }
+            st = edmi__prepare_links(sys, work);
+            if (st != EDMI_OK) { /* a substep's start the potentials refuse: no retry */
+                edmi__restore(sys, work, tank0, n_moving);
+                res->iterations = iterations;
+                res->halvings = halvings;
+                return st;
+            }
+            st = edmi__attempt(sys, work, dt * frac, &sub);
+            iterations += sub.iterations;
+            halvings += sub.halvings;
+        }
+        if (st != EDMI_OK && edmi__is_step_failure(st) && level < k) {
+            level++; /* the same start, half as far */
+            continue;
+        }
+        if (st != EDMI_OK && edmi__is_step_failure(st) && sys->params.fallback)
+            st = edmi__fallback(sys, work, dt * frac, &sub, st);
+        if (st != EDMI_OK) {
+            edmi__restore(sys, work, tank0, n_moving);
+            res->iterations = iterations;
+            res->halvings = halvings;
+            return st;
+        }
+        edmi__add_substep(res, &sub, &wx, &wa);
+        for (j = 0; j < sys->n_links; j++)
+            for (i = 0; i < 3; i++)
+                work->lw[j].fsum[i] += frac * work->lw[j].f[i];
+        edmi__commit(sys, work, sub.tank);
+        pos += units;
+        while (level > 1 && pos % (2 * units) == 0) { /* back to longer substeps */
+            level--;
+            units *= 2;
+        }
+    }
+    res->iterations = iterations;
+    res->halvings = halvings;
+    for (j = 0; j < sys->n_links; j++)
+        edmi__copy3(work->lw[j].fsum, sys->link_force[j]);
+    return EDMI_OK;
+}
+
+edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                      edmi_step_result *res)
+{
+    edmi_step_result local;
+    edmi_status st;
+    int i;
+    if (!res)
+        res = &local;
+    edmi__clear_result(res);
+    if (!sys || !work)
+        return EDMI_ERR_NULL;
+    st = edmi__validate(sys, dt);
+    if (st != EDMI_OK)
+        return st;
+    st = edmi__prepare_links(sys, work); /* the start state's links: refused as input */
+    if (st != EDMI_OK)
+        return st;
+    st = edmi__attempt(sys, work, dt, res);
+    if (st == EDMI_OK) {
+        edmi__commit(sys, work, res->tank);
+        for (i = 0; i < sys->n_links; i++)
+            edmi__copy3(work->lw[i].f, sys->link_force[i]);
+        res->substeps = 1;
+    } else {
+        if (!edmi__is_step_failure(st) ||
+            (sys->params.substep_levels == 0 && !sys->params.fallback))
+            return st;
+        st = edmi__substeps(sys, work, dt, res, st);
+        if (st != EDMI_OK)
+            return st;
+    }
     edmi__advance_clock(sys, dt);
     return EDMI_OK;
 }
@@ -4196,6 +4479,7 @@ edmi_params edmi_default_params(void)
     p.guard = EDMI_GUARD_AUTO;
     p.tank_cap = EDMI__TANK_CAP;
     p.fallback = 0;
+    p.substep_levels = 0;
     /* No tolerance to tune: Newton stops at its round-off floor in either precision
      * (edmi__newton). tol_r and tol_a are early stops for studies, off by default. */
     p.tol_r = EDMI__ZERO;

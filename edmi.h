@@ -36,7 +36,7 @@
 #endif
 
 /** Bodies per system. Costs 10 reals + 1 int per body in edmi_system (state and force port)
- *  and 21 reals + 6 ints per body in edmi_workspace, plus the Newton matrix (EDMI_MAX_MATRIX). */
+ *  and 32 reals + 6 ints per body in edmi_workspace, plus the Newton matrix (EDMI_MAX_MATRIX). */
 #ifndef EDMI_MAX_BODIES
 #define EDMI_MAX_BODIES 16
 #endif
@@ -54,7 +54,7 @@
 
 /** Links (pair or anchor) per system. Costs one edmi_link (2 ints, 5 reals, an enum and 3
  *  pointers, plus padding), 6 reals and an int (moving anchor, link force) in edmi_system
- *  and 30 reals and 2 ints in edmi_workspace per link. */
+ *  and 56 reals and 4 ints in edmi_workspace per link. */
 #ifndef EDMI_MAX_LINKS
 #define EDMI_MAX_LINKS 64
 #endif
@@ -258,12 +258,29 @@ typedef struct edmi_params {
                               window of steps H rises by at most the work plus the tank's
                               level at its start. 256 by default; 0 is the per-step guarantee
                               H_n+1 - H_n <= work (README, "Energy-safe stepping") */
-    int fallback;        /*!< non-zero: a step whose Newton solve fails (l_max reached,
-                              diverged, singular) stores the fallback state instead of
-                              failing: positions kept, kinetic energy relative to the
-                              centre of mass (or, with anchors, all of it) removed; reported
-                              as EDMI_STOP_FALLBACK. Bounds every step's time. 0 by default */
+    int substep_levels;  /*!< k in 0..EDMI_MAX_SUBSTEP_LEVELS: a step that fails after its
+                              input was accepted (Newton: singular, l_max reached, diverged;
+                              the guard; a result beyond the range) is taken again as two
+                              substeps of dt/2, a substep that fails as two of half its size,
+                              down to dt/2^k, within the same call; the substeps' passivity
+                              and energy balances add up to the step's (res.substeps).
+                              At most 2^(k+1) - 1 Newton solves per call. 0 by default */
+    int fallback;        /*!< non-zero: where a step (or, with substep_levels, a substep of
+                              dt/2^k) still fails, the call stores a passive fallback state
+                              instead of failing and returns EDMI_OK, stop
+                              EDMI_STOP_FALLBACK, res.cause the failure: with the guard on,
+                              Newton's last iterate when it got closer than the predictor,
+                              made passive by the guard (the motion goes on); else the
+                              positions kept and the kinetic energy relative to the centre of
+                              mass (with anchors, all of it) removed. With fallback, every
+                              step whose input edmi_step() accepts returns EDMI_OK in bounded
+                              time; the one exception is an anchor moved (edmi_move_anchor())
+                              onto its body or beyond the range, where no passive state
+                              exists. 0 by default */
 } edmi_params;
+
+/** The largest edmi_params.substep_levels: 2^10 substeps. */
+#define EDMI_MAX_SUBSTEP_LEVELS 10
 
 /** Derivatives 0..4 of the split parts of a potential at one distance r:
  *  V = c + e (convex/concave: c'' >= 0, e'' <= 0) and V = sp + sm
@@ -411,6 +428,9 @@ typedef struct edmi_link_ws {
     /* at the end of the last balance: the link's two ends, the potential's parameters,
      * |r|^2 and V (double-word) and V's error bound, reused when the next step starts there */
     edmi_real end_ends[6], end_pot[2], end_s[2], end_v[2], end_e;
+    /* substeps (edmi_params.substep_levels): the mean force summed over them, and a moving
+     * anchor's start and end over the whole step */
+    edmi_real fsum[3], xs[3], xt[3];
     int bal_on;
     int have1;
     int end_kind;
@@ -444,6 +464,8 @@ typedef struct edmi_workspace {
     edmi_real dp[EDMI_MAX_BODIES][3]; /* Newton correction of p */
     edmi_real h[EDMI_MAX_BODIES];     /* dt / (2 m) per body, the Newton matrix's row scales */
     edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
+    edmi_real q0[EDMI_MAX_BODIES][3]; /* substeps: the step's start, restored if they fail */
+    edmi_real p0[EDMI_MAX_BODIES][3];
     edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
     edmi_link_ws lw[EDMI_MAX_LINKS];
     edmi_real kd[EDMI_DAMPER_SLOTS_][9]; /* damper tangent blocks */
@@ -455,23 +477,46 @@ typedef struct edmi_workspace {
     int kb, upper;                     /* its lower and upper bandwidths */
 } edmi_workspace;
 
-/** Why Newton stopped (a successful step). */
+/** Why Newton stopped (a successful step). Every stop but EDMI_STOP_FALLBACK leaves an
+ *  iterate that solves the scheme's equations body by body to the bound EDMI_SOLVED (below):
+ *  EDMI_OK means solved. */
 typedef enum edmi_stop {
     EDMI_STOP_CONVERGED = 0, /*!< at the round-off floor: the next Newton correction,
                                   predicted from the last two in the quadratic regime
                                   (c_l^3 / c_l-1^2, with c_l <= c_l-1 / 4 and a residual
                                   below sqrt(eps) x residual0), is below eps in the scaled norm, so it could not move the iterate by a unit
-                                  roundoff; or a correction or the residual is exactly 0 */
+                                  roundoff; or a correction or the residual is exactly 0 (a correction
+                                  of 0 short of EDMI_SOLVED: EDMI_ERR_NO_CONVERGENCE) */
     EDMI_STOP_STALLED,   /*!< round-off noise above eps: the residual stopped halving (and
                               did not more than double) after Newton's quadratic regime (this
                               and the previous residual both <= sqrt(eps) x residual0), or
                               stopped halving within 8x its round-off noise as
                               estimated from the magnitudes summed into it (the potentials'
                               cancelling terms, the LG quotient's eps |V| / |d1 - d0|) */
-    EDMI_STOP_TOL_R,     /*!< scaled residual <= tol_r * initial scaled residual (tol_r > 0) */
-    EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a (tol_a > 0) */
-    EDMI_STOP_FALLBACK   /*!< params.fallback: Newton failed and the fallback state was stored */
+    EDMI_STOP_TOL_R,     /*!< scaled residual <= tol_r * initial scaled residual (tol_r > 0),
+                              and the bound below with EDMI_SOLVED EDMI_EPS raised to tol_r */
+    EDMI_STOP_TOL_A,     /*!< scaled residual <= tol_a (tol_a > 0), and the bound below with
+                              EDMI_SOLVED EDMI_EPS raised to tol_a */
+    EDMI_STOP_FALLBACK   /*!< params.fallback: the step (or a substep) failed and stored the
+                              fallback state (res.cause says why): passive, not solved */
 } edmi_stop;
+
+/** What EDMI_OK means: Newton's iterate (q1, p1), the stored state before the guard's moves
+ *  (edmi_step_result.guard_action), satisfies, for every body a,
+ *      |R_q,a| <= EDMI_SOLVED EDMI_EPS Q_a,   |R_p,a| <= EDMI_SOLVED EDMI_EPS P_a,
+ *  R_q, R_p the scheme's residuals (edmi_residual()) and |.| the Euclidean norm, with the
+ *  magnitudes of the terms summed into them, taken at the step's two ends:
+ *      Q_a = |q_n| + |q1| + dt/m_a (|p_n| + |p1|)  [+ |m_ab| / m_a (|q_n,b| + |q1_b|)],
+ *      P_a = |p_n| + |p1| + dt |F_a| + dt |m_a g|
+ *            + sum over a's links of 4 (dt |f| + 3 k (|r_m| + Q_a + Q_b)) + cancellation
+ *            + sum over a's dampers of 4 c (|r_n| + |r1| + Q_a + Q_b),
+ *  f the link's force at its mid-point vector r_m, k the largest entry of its tangent block
+ *  dt df/dr_n+1, Q_b = |x_n+1| for an anchor, "cancellation" the potential's cancelling
+ *  terms (the LG quotient's |V| / |d1 - d0|), and 16 EDMI_EPS times the smallest normal
+ *  added to each (the subnormal grid). The bound holds however large the terms are: a step
+ *  deep in a repulsive wall whose forces Newton cannot resolve fails with
+ *  EDMI_ERR_NO_CONVERGENCE (or takes the fallback), never EDMI_OK. */
+#define EDMI_SOLVED 1024
 
 /** Bits of edmi_step_result.guard_action: what the passivity guard changed. */
 #define EDMI_GUARD_IMPULSE 1u /*!< an impulse along one link (keeps L, J, C; an anchor link
@@ -499,8 +544,8 @@ typedef enum edmi_certificate {
                                near the bottom of the range (a system coming to rest) */
 } edmi_certificate;
 
-/** What one step did. Filled on success and on EDMI_ERR_SINGULAR / NO_CONVERGENCE /
- *  DIVERGED / PASSIVITY (so the caller can see how far Newton got); zeroed on input errors. */
+/** What one step did. Filled on success and on the failures after the input was accepted
+ *  (so the caller can see how far Newton got); zeroed on input errors. */
 typedef struct edmi_step_result {
     int iterations;      /*!< Newton corrections taken */
     edmi_stop stop;      /*!< why Newton stopped (meaningful when the step succeeded) */
@@ -538,6 +583,12 @@ typedef struct edmi_step_result {
     edmi_real tank;         /*!< the energy tank after the step, T_n+1 (sys->tank) */
     edmi_real tank_cap;     /*!< its capacity at the step's end: params.tank_cap EDMI_EPS
                                  times the magnitude of H's terms there [energy] */
+    int substeps;           /*!< substeps stored: 1 for the step itself, more where it failed
+                                 and params.substep_levels split it (the works, dissipations,
+                                 dh and iterations above are their sums) */
+    int fallbacks;          /*!< substeps (or the step) that stored the fallback state */
+    edmi_status cause;      /*!< EDMI_OK if the step solved at once; else why it did not (the
+                                 failure the substeps or the fallback then took over) */
 } edmi_step_result;
 
 /** Invariants of a state (section 2 and 4.1 of the paper). */
@@ -662,15 +713,21 @@ edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
  *  With the guard on (params.guard), the stored state and the tank T (sys->tank) satisfy
  *  H(q_n+1, p_n+1) - H(q_n, p_n) <= res->work_ext + res->work_anchor + T_n - T_n+1 exactly,
  *  with 0 <= T_n+1 <= res->tank_cap (T_n+1 = T_n = 0 when params.tank_cap is 0). With
- *  params.fallback, a failure of the solve (SINGULAR, NO_CONVERGENCE, DIVERGED, PASSIVITY)
- *  stores the fallback state instead and returns EDMI_OK (res->stop == EDMI_STOP_FALLBACK).
+ *  EDMI_OK means solved to the bound EDMI_SOLVED states, unless res->stop is
+ *  EDMI_STOP_FALLBACK. A step that fails once its input is accepted (SINGULAR,
+ *  NO_CONVERGENCE, DIVERGED, PASSIVITY, RANGE) is split into substeps with
+ *  params.substep_levels, and with params.fallback stores the fallback state where that still
+ *  fails (res->cause says why, res->substeps and res->fallbacks what was stored).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
  *          EDMI_ERR_CAPACITY (corrupted counts), EDMI_ERR_INDEX, EDMI_ERR_PARAM,
- *          EDMI_ERR_COINCIDENT, EDMI_ERR_SINGULAR, EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED
- *          (also: Newton's solution ends a link at length 0 or outside a user potential's
- *          domain, where the next step could not start), EDMI_ERR_PASSIVITY, EDMI_ERR_RANGE
- *          (not a solver failure: the fallback does not take it). EDMI_ERR_DT also when
- *          t + dt overflows. */
+ *          EDMI_ERR_COINCIDENT, EDMI_ERR_RANGE (the start state's potentials beyond the
+ *          range): the input refused; without params.fallback also EDMI_ERR_SINGULAR,
+ *          EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED (also: Newton's solution ends a link at
+ *          length 0 or outside a user potential's domain, where the next step could not
+ *          start), EDMI_ERR_PASSIVITY, EDMI_ERR_RANGE (a result beyond the range); with it,
+ *          EDMI_ERR_DIVERGED or EDMI_ERR_RANGE only where a moved anchor ends on its body,
+ *          outside its potential's domain or beyond the range. EDMI_ERR_DT also when t + dt
+ *          overflows. */
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res);
 

@@ -545,7 +545,7 @@ static void mm_fallback(void)
     edmi_step_result res;
     edmi_status st;
     tp_delta d;
-    int a, rose = 1;
+    int rose = 1;
     mm_cable(EDMI_PM, 1);
     mm_sys.params.guard = EDMI_GUARD_AUTO;
     mm_sys.params.fallback = 1;
@@ -558,14 +558,12 @@ static void mm_fallback(void)
     mm_momenta(&mm_sys, l1, j1, c1);
     if (st == EDMI_OK && tp_delta_h(&mm_copy, &mm_sys, &res, &d))
         rose = d.broken; /* dh > w + err; no work: at most what the tank gave */
-    for (a = 0; a < MM_N && st == EDMI_OK; a++)
-        if (memcmp(mm_sys.body[a].q, mm_copy.body[a].q, sizeof mm_sys.body[a].q) != 0)
-            st = EDMI_ERR_PARAM;
     dl = mm_abs(l1[0] - l0[0]) + mm_abs(l1[1] - l0[1]) + mm_abs(l1[2] - l0[2]);
-    MM_REPORT(st == EDMI_OK && res.stop == EDMI_STOP_FALLBACK && !rose &&
+    MM_REPORT(st == EDMI_OK && res.stop == EDMI_STOP_FALLBACK &&
+                  res.cause == EDMI_ERR_NO_CONVERGENCE && !rose &&
                   dl <= 64.0L * eps * (mm_abs(l0[0]) + mm_abs(l0[1]) + mm_abs(l0[2])) + 1e-30L,
-              "fallback, coupled M", ": EDMI_OK with stop FALLBACK, q kept, H not raised beyond "
-              "the tank (H1 - H0), L changed by",
+              "fallback, coupled M", ": EDMI_OK with stop FALLBACK (Newton's last iterate under "
+              "the guard), H not raised beyond the tank (H1 - H0), L changed by",
               2, st == EDMI_OK ? d.dh : 0.0L, dl, 0.0L);
 }
 

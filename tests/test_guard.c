@@ -320,9 +320,11 @@ static void gd_moving_anchor(void)
 }
 
 /* (6) The fallback: a step Newton cannot finish within l_max (the stiff scene at omega dt =
- * 100 with l_max = 1) stores positions unchanged and momenta zeroed (anchored system), reports
- * EDMI_STOP_FALLBACK, and satisfies the inequality; without the option the same step fails
- * and leaves the system bit-identical. */
+ * 100 with l_max = 1). Without the option the step fails and leaves the system bit-identical.
+ * With it, and the guard on, the step stores Newton's last iterate made passive by the guard
+ * (the body moves on), reports EDMI_STOP_FALLBACK with the cause, and satisfies the
+ * inequality; with the guard off it stores positions unchanged and momenta zeroed (anchored
+ * system), H falling. */
 static void gd_fallback(void)
 {
     edmi_params prm = gd_params(EDMI_PM);
@@ -338,13 +340,22 @@ static void gd_fallback(void)
     gd_sys.params.fallback = 1;
     gd_old = gd_sys;
     CHECK_STATUS(edmi_step(&gd_sys, &gd_work, dt, &res), EDMI_OK);
-    CHECK(res.stop == EDMI_STOP_FALLBACK);
+    CHECK(res.stop == EDMI_STOP_FALLBACK && res.cause == EDMI_ERR_NO_CONVERGENCE &&
+          res.fallbacks == 1 && res.substeps == 1);
+    CHECK(!(gd_sys.body[0].q[0] == gd_old.body[0].q[0] &&
+            gd_sys.body[0].q[1] == gd_old.body[0].q[1] &&
+            gd_sys.body[0].q[2] == gd_old.body[0].q[2]));
+    CHECK(tp_delta_h(&gd_old, &gd_sys, &res, &d) && !d.broken);
+    CHECK(gd_sys.t == gd_old.t + dt);
+    gd_sys = gd_old;
+    gd_sys.params.guard = EDMI_GUARD_OFF;
+    CHECK_STATUS(edmi_step(&gd_sys, &gd_work, dt, &res), EDMI_OK);
+    CHECK(res.stop == EDMI_STOP_FALLBACK && res.cause == EDMI_ERR_NO_CONVERGENCE);
     CHECK(gd_sys.body[0].q[0] == gd_old.body[0].q[0] && gd_sys.body[0].q[1] == gd_old.body[0].q[1] &&
           gd_sys.body[0].q[2] == gd_old.body[0].q[2]);
     CHECK(gd_sys.body[0].p[0] == EDMI_R(0.0) && gd_sys.body[0].p[1] == EDMI_R(0.0) &&
           gd_sys.body[0].p[2] == EDMI_R(0.0));
     CHECK(tp_delta_h(&gd_old, &gd_sys, &res, &d) && !d.broken && d.dh < 0.0L);
-    CHECK(gd_sys.t == gd_old.t + dt);
 }
 
 /* (7) Rest is a fixed point (tests/passive.c, tp_rest_run). A body settling onto its anchor

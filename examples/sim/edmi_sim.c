@@ -3,7 +3,7 @@
  *
  *   edmi-sim SCENE [--scheme mp|lg|ge|pm|pt] [--dt X] [--t-end X] [--tol-q X] [--tol-r X]
  *            [--tol-a X] [--l-max N] [--lg-switch closed|janz|gonzalez|ge|pm|pt]
- *            [--guard auto|on|off] [--fallback on|off] [--every K] [--csv FILE]
+ *            [--guard auto|on|off] [--fallback on|off] [--substeps K] [--every K] [--csv FILE]
  *            [--energy-balance] [--balance-tol X] [--ref FILE|converged] [--row]
  *            [--label TEXT] [--quiet] [--emit-c]
  *
@@ -44,8 +44,10 @@ static const char *const usage_text =
     "                            that alternate force below tol_Q\n"
     "  --guard auto|on|off       passivity guard (default: the scene's, else auto: on for\n"
     "                            GE, PM, PT)\n"
-    "  --fallback on|off         store the fallback state when a Newton solve fails\n"
+    "  --fallback on|off         store the fallback state when a step still fails\n"
     "                            (default: the scene's, else off)\n"
+    "  --substeps K              a failed step retries as substeps down to dt/2^K\n"
+    "                            (default: the scene's, else 0)\n"
     "  --tank-cap X              the guard's energy tank capacity in eps times H's terms\n"
     "                            (default 256; 0: H never rises beyond each step's work)\n"
     "  --csv FILE                write a trace: t, H, J, L, C, iterations, every q and p\n"
@@ -83,11 +85,11 @@ typedef struct sim_opts {
     const char *label;
     const char *ref; /* --ref FILE, or "converged" */
     int has_scheme, has_switch, has_tol_q, has_tol_r, has_tol_a, has_l_max, has_guard,
-        has_fallback, has_tank_cap;
+        has_fallback, has_tank_cap, has_substeps;
     double tank_cap;
     edmi_scheme scheme;
     edmi_guard_mode guard;
-    int fallback;
+    int fallback, substeps;
     edmi_params sw; /* lg_form / lg_alt from --lg-switch */
     double dt, t_end, tol_q, tol_r, tol_a, balance_tol;
     long l_max, every, digits;
@@ -188,7 +190,8 @@ static void parse_args(int argc, char **argv, sim_opts *o)
             strcmp(name, "--tol-q") && strcmp(name, "--tol-r") && strcmp(name, "--tol-a") &&
             strcmp(name, "--l-max") && strcmp(name, "--csv") && strcmp(name, "--ref") &&
             strcmp(name, "--every") && strcmp(name, "--digits") && strcmp(name, "--label") &&
-            strcmp(name, "--balance-tol") && strcmp(name, "--tank-cap"))
+            strcmp(name, "--balance-tol") && strcmp(name, "--tank-cap") &&
+            strcmp(name, "--substeps"))
             usage_error("unknown option '%s'%s", a, "");
         if (!v) {
             if (i + 1 >= argc)
@@ -212,6 +215,13 @@ static void parse_args(int argc, char **argv, sim_opts *o)
             if (sim_parse_on_off(v, &o->fallback))
                 usage_error("--fallback: bad value '%s' (expected on or off)%s", v, "");
             o->has_fallback = 1;
+        } else if (strcmp(name, "--substeps") == 0) {
+            long k = strcmp(v, "0") == 0 ? 0 : opt_count(name, v); /* 0: no substeps */
+            if (k > EDMI_MAX_SUBSTEP_LEVELS)
+                usage_error("--substeps: %s is more than the largest, EDMI_MAX_SUBSTEP_LEVELS%s",
+                            v, "");
+            o->substeps = (int)k;
+            o->has_substeps = 1;
         } else if (strcmp(name, "--tank-cap") == 0) {
             o->tank_cap = strcmp(v, "0") == 0 ? 0.0 : opt_positive(name, v); /* 0: no tank */
             o->has_tank_cap = 1;
@@ -403,9 +413,9 @@ static void emit_c(const sim_scene *s, const char *path)
     emit_tol("tol_r", (double)s->params.tol_r, "0.0");
     emit_tol("tol_a", (double)s->params.tol_a, "0.0");
     printf("    .l_max = %d, .energy_balance = 0, .guard = %s, .tank_cap = %.17g,\n"
-           "    .fallback = %d};\n\n",
+           "    .substep_levels = %d, .fallback = %d};\n\n",
            s->params.l_max, guard_c[s->params.guard], (double)s->params.tank_cap,
-           s->params.fallback);
+           s->params.substep_levels, s->params.fallback);
     printf("static const edmi_scene %s_scene = {\n"
            "    .n_bodies = %d, .bodies = %s_bodies,\n"
            "    .n_links = %d, .links = %s_links,\n"
@@ -993,6 +1003,8 @@ int main(int argc, char **argv)
         scn.params.guard = o.guard;
     if (o.has_fallback)
         scn.params.fallback = o.fallback;
+    if (o.has_substeps)
+        scn.params.substep_levels = o.substeps;
     if (o.has_tank_cap)
         scn.params.tank_cap = (edmi_real)o.tank_cap;
     scn.params.energy_balance = o.energy_balance;

@@ -31,11 +31,12 @@ enum {
     SIM__SET_EVERY,
     SIM__SET_GUARD,
     SIM__SET_FALLBACK,
+    SIM__SET_SUBSTEPS,
     SIM__N_SET
 };
 static const char *const sim__set_names[SIM__N_SET] = {
     "scheme", "lg_switch", "dt", "t_end", "tol_q", "tol_r", "tol_a", "l_max", "every",
-    "guard", "fallback"};
+    "guard", "fallback", "substeps"};
 
 /* Parsing state of one file. */
 typedef struct sim__ctx {
@@ -691,7 +692,7 @@ static int sim__key_set(sim__ctx *c)
             break;
     if (k == SIM__N_SET)
         return sim__fail(c, "set: unknown setting '%s' (expected scheme, lg_switch, dt, t_end, "
-                         "tol_q, tol_r, tol_a, l_max, every, guard or fallback)", c->tok[1]);
+                         "tol_q, tol_r, tol_a, l_max, every, guard, fallback or substeps)", c->tok[1]);
     snprintf(c->key, sizeof c->key, "set %s", sim__set_names[k]);
     if (sim__count(c, 1, 2, names, "set KEY VALUE"))
         return -1;
@@ -749,6 +750,14 @@ static int sim__key_set(sim__ctx *c)
     case SIM__SET_FALLBACK:
         if (sim_parse_on_off(c->tok[2], &s->params.fallback))
             return sim__fail(c, "set fallback: bad value '%s' (expected on or off)", c->tok[2]);
+        break;
+    case SIM__SET_SUBSTEPS:
+        if (sim__int_setting(c, 2, &n))
+            return -1;
+        if (n > EDMI_MAX_SUBSTEP_LEVELS)
+            return sim__fail(c, "set substeps: %s is more than %d levels (2^%d substeps)",
+                             c->tok[2], EDMI_MAX_SUBSTEP_LEVELS, EDMI_MAX_SUBSTEP_LEVELS);
+        s->params.substep_levels = (int)n;
         break;
     default:
         break;
