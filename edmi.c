@@ -723,6 +723,8 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         st = edmi__pot_parts(&lk->pot, w->d0, &p0);
         if (st != EDMI_OK)
             return st;
+        if (!edmi__finite(p0.v[0]) || !edmi__finite(p0.v[1]))
+            return EDMI_ERR_RANGE; /* the start's energy or force beyond the range: refused */
         w->v0 = p0.v[0];
         w->m0 = edmi__pot_mag(&p0, w->d0);
         w->dv0 = p0.v[1];
@@ -3574,6 +3576,11 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
             s1 += EDMI_R(1.5) * lk->pot.a * d1 * d1;
             for (i = 0; i < 3; i++)
                 xh = edmi__max(xh, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
+        } else if (!w->bal_on) { /* both ends kept: V'(d_n), finite (edmi__prepare_links) */
+            dv = w->dv0;
+            w->beta = dv / d1;
+            s1 += w->m0;
+            so += EDMI_R(2.0) * w->m0;
         } else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp) == EDMI_OK) {
             dv = pp.v[1];
             w->beta = dv / d1;

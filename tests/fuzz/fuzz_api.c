@@ -449,7 +449,8 @@ static edmi_workspace fz_work;
  * a repulsive wall that Newton never solved is off by 1e10 to 1e30. The guard's impulse,
  * drag, stop and hold move the stored state off Newton's iterate (by energy, not by
  * residual): for those the step is taken again with the guard off, which stores Newton's
- * iterate itself. Fallback steps store no solution and are not checked. */
+ * iterate itself. Fallback steps store no solution, and a step split into substeps solves
+ * each substep (not the whole dt): neither is checked here. */
 #define FZ_SOLVED (16.0L * (long double)EDMI_SOLVED)
 
 static edmi_system fz_off, fz_one;
@@ -501,8 +502,8 @@ static void fz_check_solved(const edmi_system *s0, const edmi_system *s1, edmi_r
                             const edmi_step_result *res)
 {
     const edmi_system *s = s1;
-    if (res->stop == EDMI_STOP_FALLBACK)
-        return;
+    if (res->stop == EDMI_STOP_FALLBACK || res->substeps != 1)
+        return; /* a fallback solves nothing; substeps each solve their own part of dt */
     if (res->guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG | EDMI_GUARD_STOP |
                              EDMI_GUARD_HOLD))
         s = fz_guard_off(s0, dt);
@@ -685,6 +686,25 @@ static void fz_build(fz_in *in, edmi_system *sys, int *n_user)
     }
 }
 
+/* Every link's potential evaluates at its start distance (edmi_pot_eval: every derivative
+ * finite, a user potential accepting it): else the start state is input edmi_step refuses. */
+static int fz_start_evaluable(const edmi_system *s)
+{
+    int j, i;
+    for (j = 0; j < s->n_links; j++) {
+        const edmi_link *lk = &s->link[j];
+        const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : s->body[lk->b].q;
+        edmi_real r[3], d;
+        edmi_pot_parts pp;
+        for (i = 0; i < 3; i++)
+            r[i] = s->body[lk->a].q[i] - xb[i];
+        d = (edmi_real)fz_n3l(r);
+        if (d > 0 && edmi_pot_eval(&lk->pot, d, &pp) != EDMI_OK)
+            return 0;
+    }
+    return 1;
+}
+
 static void fz_op_step(fz_in *in, int *steps)
 {
     edmi_step_result res;
@@ -712,7 +732,8 @@ static void fz_op_step(fz_in *in, int *steps)
          * moved anchor with no passive state may fail */
         edmi_invariants inv;
         if (!((st == EDMI_ERR_DIVERGED || st == EDMI_ERR_RANGE) &&
-              (fz_before.n_moving > 0 || edmi_invariants_of(&fz_before, &inv) != EDMI_OK)))
+              (fz_before.n_moving > 0 || edmi_invariants_of(&fz_before, &inv) != EDMI_OK ||
+               !fz_start_evaluable(&fz_before))))
             fz_fail("fallback set but the step failed", "edmi_step", st);
     }
     if (st == EDMI_OK) {
