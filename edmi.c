@@ -3456,21 +3456,23 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
 }
 
 /* A link's end state is one the next step starts from (edmi__prepare_links): a distance
- * > 0 (or 0 on a linear spring), and a user potential that accepts it. MP evaluates only the
- * mid-point, and LG's alternate forces only d_n and the mean length, so Newton's solution
- * can end a link at length 0 (a body landing exactly on its anchor) or outside a user
- * potential's domain; such a step is a solver failure (EDMI_ERR_DIVERGED), not a state the
- * next call would refuse. */
+ * > 0 (or 0 on a linear spring), a user potential that accepts it, and V and V' finite there.
+ * MP evaluates only the mid-point, and LG's alternate forces only d_n and the mean length, so
+ * Newton's solution can end a link at length 0 (a body landing exactly on its anchor),
+ * outside a user potential's domain or where V' overflows (EDMI_ERR_DIVERGED, RANGE): a
+ * failure of the step (substeps, the fallback), not a state the next call would refuse. */
 static edmi_status edmi__end_valid(const edmi_link *lk, const edmi_real r1[3])
 {
     edmi_pot_parts pp;
-    edmi_real d1;
+    edmi_status st;
     if (r1[0] == EDMI__ZERO && r1[1] == EDMI__ZERO && r1[2] == EDMI__ZERO)
         return edmi__is_linear(&lk->pot) ? EDMI_OK : EDMI_ERR_DIVERGED;
-    if (lk->pot.kind != EDMI_POT_USER)
+    if (edmi__is_linear(&lk->pot))
         return EDMI_OK;
-    d1 = edmi__norm(r1);
-    return edmi__pot_parts(&lk->pot, d1, &pp);
+    st = edmi__pot_parts(&lk->pot, edmi__norm(r1), &pp);
+    if (st == EDMI_OK && !(edmi__finite(pp.v[0]) && edmi__finite(pp.v[1])))
+        st = EDMI_ERR_RANGE; /* the next step could not start there (edmi__prepare_links) */
+    return st;
 }
 
 /* What the converged step did to energy: the ports' and anchors' work (correctly rounded),
