@@ -3475,6 +3475,24 @@ static edmi_status edmi__end_valid(const edmi_link *lk, const edmi_real r1[3])
     return st;
 }
 
+/* Every link's end valid at the stored positions (edmi__end_valid), after the guard moved
+ * them: a position rounded by a unit can cross a user potential's domain edge. */
+static edmi_status edmi__ends_valid(const edmi_system *sys, const edmi_workspace *work)
+{
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    int j;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        edmi_real r1[3];
+        edmi_status st;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, &work->lw[j], q1), r1);
+        st = edmi__end_valid(lk, r1);
+        if (st != EDMI_OK)
+            return st;
+    }
+    return EDMI_OK;
+}
+
 /* What the converged step did to energy: the ports' and anchors' work (correctly rounded),
  * each link's mean force on its second end (work->lw[j].f: algorithmic force plus dampers),
  * the dampers' dissipation, and bal->w. */
@@ -3704,6 +3722,11 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         }
         if (st != EDMI_OK)
             return st;
+        if (res->guard_action != 0) {
+            st = edmi__ends_valid(sys, work);
+            if (st != EDMI_OK)
+                return st;
+        }
     } else {
         edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
         res->dh = edmi__down2(&bal, edmi__dw_real(edmi__dw_add(bal.dv, bal.dk)));

@@ -1144,3 +1144,172 @@ void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, lon
     st->h_end = tp_rest_h(&tp_sys);
     st->h_ref_end = s == TP_REST_USER ? tp_rest_h(&tp_ref) : st->h_end;
 }
+
+/* ---- OK means solved: the scheme's residual at a stored state --------------------------- */
+
+static edmi_system tp_one;
+static edmi_real tp_q1[EDMI_MAX_BODIES][3], tp_p1[EDMI_MAX_BODIES][3];
+static edmi_real tp_rq[EDMI_MAX_BODIES][3], tp_rp[EDMI_MAX_BODIES][3];
+static edmi_real tp_kmat[9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES];
+static long double tp_qm[EDMI_MAX_BODIES], tp_pm[EDMI_MAX_BODIES];
+
+static long double tp_n3l(const edmi_real *v)
+{
+    long double x = v[0], y = v[1], z = v[2];
+    return tp_sqrtl(x * x + y * y + z * z);
+}
+
+/* Row a of M summed (m_a plus the off-diagonal masses). */
+static long double tp_mass_row(const edmi_system *s, int a)
+{
+    long double m = s->body[a].m;
+#if EDMI_MAX_MASS_GAP > 0
+    int b;
+    for (b = 0; b < s->n_bodies; b++) {
+        int hi = a > b ? a : b, k = (a > b ? a - b : b - a) - 1;
+        if (b != a && k < EDMI_MAX_MASS_GAP)
+            m += s->mass_off[hi][k];
+    }
+#endif
+    return m;
+}
+
+/* Link j's far end before (s0) and after (s: the anchor where s has it). */
+static void tp_ends(const edmi_system *s0, const edmi_system *s, int j, edmi_real r0[3],
+                    edmi_real r1[3], const edmi_real **xb1)
+{
+    const edmi_link *lk = &s0->link[j];
+    const edmi_real *xb0 = lk->b == EDMI_ANCHOR ? lk->anchor : s0->body[lk->b].q;
+    int i;
+    *xb1 = lk->b == EDMI_ANCHOR ? s->link[j].anchor : tp_q1[lk->b];
+    for (i = 0; i < 3; i++) {
+        r0[i] = s0->body[lk->a].q[i] - xb0[i];
+        r1[i] = tp_q1[lk->a][i] - (*xb1)[i];
+    }
+}
+
+long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
+                      edmi_workspace *work, edmi_status *status, int *body, int *which)
+{
+    const long double eps = (long double)EDMI_EPS;
+    const long double tiny = 16.0L * (sizeof(edmi_real) == sizeof(float) ? (long double)FLT_MIN
+                                                                            : (long double)DBL_MIN);
+    long double ldt = (long double)dt, worst = 0.0L;
+    int n = s0->n_bodies, a, i, j, sw;
+    *body = -1;
+    *which = 0;
+    for (a = 0; a < n; a++)
+        for (i = 0; i < 3; i++) {
+            tp_q1[a][i] = s->body[a].q[i];
+            tp_p1[a][i] = s->body[a].p[i];
+        }
+    *status = edmi_residual(s0, work, dt, (const edmi_real (*)[3])tp_q1,
+                            (const edmi_real (*)[3])tp_p1, tp_rq, tp_rp, &sw);
+    if (*status != EDMI_OK)
+        return -1.0L;
+    for (a = 0; a < n; a++) {
+        long double pn = tp_n3l(s0->body[a].p) + tp_n3l(tp_p1[a]);
+        tp_qm[a] = tp_n3l(s0->body[a].q) + tp_n3l(tp_q1[a]) + ldt / s0->body[a].m * pn;
+        tp_pm[a] = pn + ldt * tp_absl(tp_mass_row(s0, a)) * (s0->has_field ? tp_n3l(s0->g) : 0);
+    }
+#if EDMI_MAX_MASS_GAP > 0
+    for (a = 0; a < n; a++)
+        for (j = 0; j < n; j++) {
+            int hi = a > j ? a : j, k = (a > j ? a - j : j - a) - 1;
+            if (j != a && k < EDMI_MAX_MASS_GAP)
+                tp_qm[a] += tp_absl((long double)s0->mass_off[hi][k]) / s0->body[a].m *
+                            (tp_n3l(s0->body[j].q) + tp_n3l(tp_q1[j]));
+        }
+#endif
+    for (i = 0; i < s0->n_forced; i++)
+        tp_pm[s0->forced[i]] += ldt * tp_n3l(s0->force[s0->forced[i]]);
+    for (j = 0; j < s0->n_links; j++) { /* the impulse, and each link's tangent alone */
+        const edmi_link *lk = &s0->link[j];
+        const edmi_real *xb1;
+        edmi_real r0[3], r1[3];
+        long double f = ldt * tp_n3l(s->link_force[j]), k = 0.0L, rm[3], x;
+        tp_pm[lk->a] += f;
+        if (lk->b != EDMI_ANCHOR)
+            tp_pm[lk->b] += f;
+        tp_one = *s0;
+        tp_one.link[0] = *lk;
+        tp_one.n_links = 1;
+        tp_one.n_dampers = 0;
+        tp_one.n_moving = 0;
+        for (i = 0; i < s0->n_moving; i++)
+            if (s0->moving[i] == j) {
+                tp_one.n_moving = 1;
+                tp_one.moving[0] = 0;
+                for (a = 0; a < 3; a++)
+                    tp_one.anchor_next[0][a] = s0->anchor_next[j][a];
+            }
+        if (edmi_tangent(&tp_one, work, dt, (const edmi_real (*)[3])tp_q1,
+                         (const edmi_real (*)[3])tp_p1, tp_kmat) != EDMI_OK)
+            continue;
+        for (i = 0; i < 9 * n * n; i++)
+            if (tp_absl((long double)tp_kmat[i]) > k)
+                k = tp_absl((long double)tp_kmat[i]);
+        if (lk->pot.kind == EDMI_POT_HARMONIC && lk->pot.b == 0 && /* V = k/2 r^2: its GE */
+            ldt * tp_absl((long double)lk->pot.a) > k)              /* split's kink at r = 0 */
+            k = ldt * tp_absl((long double)lk->pot.a);
+        tp_ends(s0, s, j, r0, r1, &xb1);
+        for (i = 0; i < 3; i++)
+            rm[i] = 0.5L * ((long double)r0[i] + (long double)r1[i]);
+        x = 3.0L * k * (tp_sqrtl(rm[0] * rm[0] + rm[1] * rm[1] + rm[2] * rm[2]) + tp_qm[lk->a] +
+                        (lk->b == EDMI_ANCHOR ? tp_n3l(xb1) : tp_qm[lk->b]));
+        tp_pm[lk->a] += x;
+        if (lk->b != EDMI_ANCHOR)
+            tp_pm[lk->b] += x;
+    }
+    for (j = 0; j < s0->n_dampers && j < EDMI_DAMPER_SLOTS_; j++) {
+        const edmi_link *lk = &s0->link[s0->damper[j].link];
+        const edmi_real *xb1;
+        edmi_real r0[3], r1[3];
+        long double x;
+        tp_ends(s0, s, s0->damper[j].link, r0, r1, &xb1);
+        x = (long double)s0->damper[j].c *
+            (tp_n3l(r0) + tp_n3l(r1) + tp_qm[lk->a] +
+             (lk->b == EDMI_ANCHOR ? tp_n3l(xb1) : tp_qm[lk->b]));
+        tp_pm[lk->a] += x;
+        if (lk->b != EDMI_ANCHOR)
+            tp_pm[lk->b] += x;
+    }
+    if (s0->params.scheme == EDMI_LG)
+        for (j = 0; j < s0->n_links; j++) { /* the quotient's cancellation, where it is used */
+            const edmi_link *lk = &s0->link[j];
+            const edmi_real *xb1;
+            edmi_real r0[3], r1[3];
+            edmi_pot_parts v0, v1;
+            long double d0, d1, x;
+            if ((lk->pot.kind != EDMI_POT_USER || lk->pot.dd != 0) &&
+                s0->params.lg_form == EDMI_LG_CLOSED)
+                continue;
+            tp_ends(s0, s, j, r0, r1, &xb1);
+            d0 = tp_n3l(r0);
+            d1 = tp_n3l(r1);
+            if (!(tp_absl(d1 - d0) > 0.0L) ||
+                edmi_pot_eval(&lk->pot, (edmi_real)d0, &v0) != EDMI_OK ||
+                edmi_pot_eval(&lk->pot, (edmi_real)d1, &v1) != EDMI_OK)
+                continue;
+            x = ldt * (tp_absl((long double)v0.v[0]) + tp_absl((long double)v1.v[0])) /
+                tp_absl(d1 - d0);
+            tp_pm[lk->a] += x;
+            if (lk->b != EDMI_ANCHOR)
+                tp_pm[lk->b] += x;
+        }
+    for (a = 0; a < n; a++) {
+        long double xq = tp_n3l(tp_rq[a]) / (eps * (tp_qm[a] + tiny));
+        long double xp = tp_n3l(tp_rp[a]) / (eps * (tp_pm[a] + tiny));
+        if (!(xq <= worst)) {
+            worst = xq;
+            *body = a;
+            *which = 0;
+        }
+        if (!(xp <= worst)) {
+            worst = xp;
+            *body = a;
+            *which = 1;
+        }
+    }
+    return worst;
+}

@@ -435,25 +435,17 @@ static edmi_workspace fz_work;
 
 /* ---- OK means solved: the scheme's residual at the stored state ------------------------- */
 
-/* The bound edmi.h states for an EDMI_OK step (EDMI_SOLVED), checked with this harness's own
- * magnitudes in long double: the residual R = edmi_residual() from the system before the
- * step at the stored end state, against, per body a,
- *   Q_a = |q_n| + |q1| + dt/m (|p_n| + |p1|) (+ the coupled masses' |m_ab|/m_a (|q_n,b| + |q1_b|)),
- *   P_a = |p_n| + |p1| + dt |F_a| + dt |M 1|_a |g| + dt sum over a's links |link_force|
- *         + per link 3 k (|r_m| + Q_a + Q_b), k the largest entry of the link's own tangent
- *           (edmi_tangent() of a copy holding that link alone), Q_b = |x_n+1| for an anchor
- *         + per damper c (|r_n| + |r1| + Q_a + Q_b) + the LG quotient's eps |V| / |d1 - d0|,
- * |R_q,a| <= FZ_SOLVED eps Q_a and |R_p,a| <= FZ_SOLVED eps P_a. edmi.h's P_a counts each
- * link's tangent as 12 k (|r_m| + Q_a + Q_b), this harness 3 k (...): FZ_SOLVED =
- * 16 EDMI_SOLVED covers that and the terms it leaves out, and a step deep in
- * a repulsive wall that Newton never solved is off by 1e10 to 1e30. The guard's impulse,
- * drag, stop and hold move the stored state off Newton's iterate (by energy, not by
- * residual): for those the step is taken again with the guard off, which stores Newton's
- * iterate itself. Fallback steps store no solution, and a step split into substeps solves
- * each substep (not the whole dt): neither is checked here. */
+/* The bound edmi.h states for an EDMI_OK step (EDMI_SOLVED), checked with magnitudes of the
+ * test suite's own (tp_solved, tests/passive.c: the residual at the stored state against the
+ * terms' magnitudes in long double from public data; a solved step is within 16 EDMI_SOLVED
+ * there, a step deep in a repulsive wall that Newton never solved off by 1e10 to 1e30). The
+ * guard's impulse, drag, stop and hold move the stored state off Newton's iterate (by energy,
+ * not by residual): for those the step is taken again with the guard off, which stores
+ * Newton's iterate itself. Fallback steps store no solution, and a step split into substeps
+ * solves each substep (not the whole dt): neither is checked here. */
 #define FZ_SOLVED (16.0L * (long double)EDMI_SOLVED)
 
-static edmi_system fz_off, fz_one;
+static edmi_system fz_off;
 static edmi_workspace fz_work2;
 
 static long double fz_n3l(const edmi_real *v)
@@ -462,19 +454,6 @@ static long double fz_n3l(const edmi_real *v)
     return sqrtl(x * x + y * y + z * z);
 }
 
-static long double fz_mass_row(const edmi_system *s, int a)
-{
-    long double m = s->body[a].m;
-#if EDMI_MAX_MASS_GAP > 0
-    int b;
-    for (b = 0; b < s->n_bodies; b++) {
-        int hi = a > b ? a : b, k = (a > b ? a - b : b - a) - 1;
-        if (b != a && k < EDMI_MAX_MASS_GAP)
-            m += s->mass_off[hi][k];
-    }
-#endif
-    return m;
-}
 
 /* The step from s0 again with the guard off: Newton's iterate as it is (NULL if that fails). */
 static const edmi_system *fz_guard_off(const edmi_system *s0, edmi_real dt)
@@ -515,150 +494,27 @@ static void fz_check_solved(const edmi_system *s0, const edmi_system *s1, edmi_r
 static void fz_check_solved_at(const edmi_system *s0, const edmi_system *s1, const edmi_system *s,
                                edmi_real dt, const edmi_step_result *res)
 {
-    static edmi_real q1[EDMI_MAX_BODIES][3], p1[EDMI_MAX_BODIES][3];
-    static edmi_real rq[EDMI_MAX_BODIES][3], rp[EDMI_MAX_BODIES][3];
-    static edmi_real kmat[FZ_N3 * FZ_N3];
-    static long double qm[EDMI_MAX_BODIES], pm[EDMI_MAX_BODIES];
-    const long double eps = (long double)EDMI_EPS;
-    long double ldt = (long double)dt, worst = 0, bound = FZ_SOLVED;
-    int n = s0->n_bodies, a, i, j, sw, worst_a = -1, worst_p = 0;
+    long double bound = FZ_SOLVED, worst;
+    int body, which;
     edmi_status st;
-    for (a = 0; a < n; a++) {
-        memcpy(q1[a], s->body[a].q, sizeof q1[a]);
-        memcpy(p1[a], s->body[a].p, sizeof p1[a]);
-    }
-    st = edmi_residual(s0, &fz_work2, dt, (const edmi_real (*)[3])q1,
-                       (const edmi_real (*)[3])p1, rq, rp, &sw);
+    worst = tp_solved(s0, s, dt, &fz_work2, &st, &body, &which);
     if (st != EDMI_OK && res->guard_action != 0 && s == s1) {
         fz_check_solved_off(s0, dt, res); /* the guard's rounding moved q off a domain's edge */
         return;
     }
     if (st != EDMI_OK)
         fz_fail("the stored state's residual cannot be evaluated", "edmi_step", st);
-    for (a = 0; a < n; a++) {
-        long double pn = fz_n3l(s0->body[a].p) + fz_n3l(p1[a]);
-        qm[a] = fz_n3l(s0->body[a].q) + fz_n3l(q1[a]) + ldt / s0->body[a].m * pn;
-        pm[a] = pn + ldt * fabsl(fz_mass_row(s0, a)) * (s0->has_field ? fz_n3l(s0->g) : 0);
-    }
-#if EDMI_MAX_MASS_GAP > 0
-    for (a = 0; a < n; a++)
-        for (j = 0; j < n; j++) {
-            int hi = a > j ? a : j, k = (a > j ? a - j : j - a) - 1;
-            if (j != a && k < EDMI_MAX_MASS_GAP)
-                qm[a] += fabsl((long double)s0->mass_off[hi][k]) / s0->body[a].m *
-                         (fz_n3l(s0->body[j].q) + fz_n3l(q1[j]));
-        }
-#endif
-    for (i = 0; i < s0->n_forced; i++)
-        pm[s0->forced[i]] += ldt * fz_n3l(s0->force[s0->forced[i]]);
-    for (j = 0; j < s0->n_links; j++) {
-        const edmi_link *lk = &s0->link[j];
-        long double f = ldt * fz_n3l(s->link_force[j]);
-        pm[lk->a] += f;
-        if (lk->b != EDMI_ANCHOR)
-            pm[lk->b] += f;
-    }
-    for (j = 0; j < s0->n_links; j++) { /* each link's tangent, alone in a copy */
-        const edmi_link *lk = &s0->link[j];
-        const edmi_real *xb0 = lk->b == EDMI_ANCHOR ? lk->anchor : s0->body[lk->b].q;
-        const edmi_real *xb1 = lk->b == EDMI_ANCHOR ? s->link[j].anchor : q1[lk->b];
-        long double k = 0, rm[3], x;
-        memcpy(&fz_one, s0, sizeof fz_one);
-        fz_one.link[0] = *lk;
-        fz_one.n_links = 1;
-        fz_one.n_dampers = 0;
-        fz_one.n_moving = 0;
-        for (i = 0; i < s0->n_moving; i++)
-            if (s0->moving[i] == j) {
-                fz_one.n_moving = 1;
-                fz_one.moving[0] = 0;
-                memcpy(fz_one.anchor_next[0], s0->anchor_next[j], sizeof fz_one.anchor_next[0]);
-            }
-        if (edmi_tangent(&fz_one, &fz_work2, dt, (const edmi_real (*)[3])q1,
-                         (const edmi_real (*)[3])p1, kmat) != EDMI_OK)
-            continue;
-        for (i = 0; i < 9 * n * n; i++)
-            k = fmaxl(k, fabsl((long double)kmat[i]));
-        if (lk->pot.kind == EDMI_POT_HARMONIC && lk->pot.b == 0) /* V = k/2 r^2: its GE split */
-            k = fmaxl(k, ldt * fabsl((long double)lk->pot.a)); /* has a kink at r = 0 */
-        for (i = 0; i < 3; i++)
-            rm[i] = 0.5L * (((long double)s0->body[lk->a].q[i] - xb0[i]) +
-                            ((long double)q1[lk->a][i] - xb1[i]));
-        x = 3 * k * (sqrtl(rm[0] * rm[0] + rm[1] * rm[1] + rm[2] * rm[2]) + qm[lk->a] +
-                     (lk->b == EDMI_ANCHOR ? fz_n3l(xb1) : qm[lk->b]));
-        pm[lk->a] += x;
-        if (lk->b != EDMI_ANCHOR)
-            pm[lk->b] += x;
-    }
-    for (j = 0; j < s0->n_dampers && j < EDMI_DAMPER_SLOTS_; j++) {
-        const edmi_link *lk = &s0->link[s0->damper[j].link];
-        const edmi_real *xb0 = lk->b == EDMI_ANCHOR ? lk->anchor : s0->body[lk->b].q;
-        const edmi_real *xb1 = lk->b == EDMI_ANCHOR ? s->link[s0->damper[j].link].anchor
-                                                    : q1[lk->b];
-        edmi_real r0[3], r1[3];
-        long double x;
-        for (i = 0; i < 3; i++) {
-            r0[i] = s0->body[lk->a].q[i] - xb0[i];
-            r1[i] = q1[lk->a][i] - xb1[i];
-        }
-        x = (long double)s0->damper[j].c *
-            (fz_n3l(r0) + fz_n3l(r1) + qm[lk->a] +
-             (lk->b == EDMI_ANCHOR ? fz_n3l(xb1) : qm[lk->b]));
-        pm[lk->a] += x;
-        if (lk->b != EDMI_ANCHOR)
-            pm[lk->b] += x;
-    }
-    if (s0->params.scheme == EDMI_LG)
-        for (j = 0; j < s0->n_links; j++) { /* the quotient's cancellation, where it is used */
-            const edmi_link *lk = &s0->link[j];
-            const edmi_real *xb0 = lk->b == EDMI_ANCHOR ? lk->anchor : s0->body[lk->b].q;
-            const edmi_real *xb1 = lk->b == EDMI_ANCHOR ? s->link[j].anchor : q1[lk->b];
-            edmi_real r0[3], r1[3];
-            edmi_pot_parts v0, v1;
-            long double d0, d1, x;
-            if ((lk->pot.kind != EDMI_POT_USER || lk->pot.dd != 0) &&
-                s0->params.lg_form == EDMI_LG_CLOSED)
-                continue;
-            for (i = 0; i < 3; i++) {
-                r0[i] = s0->body[lk->a].q[i] - xb0[i];
-                r1[i] = q1[lk->a][i] - xb1[i];
-            }
-            d0 = fz_n3l(r0);
-            d1 = fz_n3l(r1);
-            if (!(fabsl(d1 - d0) > 0) || edmi_pot_eval(&lk->pot, (edmi_real)d0, &v0) != EDMI_OK ||
-                edmi_pot_eval(&lk->pot, (edmi_real)d1, &v1) != EDMI_OK)
-                continue;
-            x = ldt * (fabsl((long double)v0.v[0]) + fabsl((long double)v1.v[0])) / fabsl(d1 - d0);
-            pm[lk->a] += x;
-            if (lk->b != EDMI_ANCHOR)
-                pm[lk->b] += x;
-        }
-    for (a = 0; a < n; a++) {
-        long double tiny = 16.0L * (long double)(edmi_is_double_precision() ? DBL_MIN : FLT_MIN);
-        long double xq = fz_n3l(rq[a]) / (eps * (qm[a] + tiny));
-        long double xp = fz_n3l(rp[a]) / (eps * (pm[a] + tiny));
-        if (!(xq <= worst)) {
-            worst = xq;
-            worst_a = a;
-            worst_p = 0;
-        }
-        if (!(xp <= worst)) {
-            worst = xp;
-            worst_a = a;
-            worst_p = 1;
-        }
-    }
     if (res->stop == EDMI_STOP_TOL_R || res->stop == EDMI_STOP_TOL_A) {
         /* the early stops hold the bound with EDMI_SOLVED eps raised to the tolerance */
         long double tol = res->stop == EDMI_STOP_TOL_R ? s0->params.tol_r : s0->params.tol_a;
-        bound = fmaxl(bound, 16.0L * tol / eps);
+        if (16.0L * tol / (long double)EDMI_EPS > bound)
+            bound = 16.0L * tol / (long double)EDMI_EPS;
     }
     if (!(worst <= bound)) {
         fprintf(stderr, "body %d: |R_%c| = %.3Lg eps x its magnitudes (bound %.0Lg), stop %d, "
                         "%d iterations, residual %.3g, residual0 %.3g, guard_action %u\n",
-                worst_a, worst_p ? 'p' : 'q', worst, bound, (int)res->stop,
-                res->iterations, (double)res->residual, (double)res->residual0,
-                res->guard_action);
+                body, which ? 'p' : 'q', worst, bound, (int)res->stop, res->iterations,
+                (double)res->residual, (double)res->residual0, res->guard_action);
         fz_fail("EDMI_OK but the stored state does not solve the scheme", "edmi_step", EDMI_OK);
     }
 }
