@@ -822,6 +822,52 @@ static void mm_lumped_differs(void)
               2, diff, err, 0.0L);
 }
 
+/* Issue 21's coupled-mass cases. (1) Three bodies in a chain of springs (k 10, rest length 1),
+ * M = [1 .6 0; .6 1 .6; 0 .6 1] (definite, not diagonally dominant), PM with the fallback, dt
+ * 1e-2: the guard failed every step (EDMI_ERR_PASSIVITY returned although the fallback was
+ * set) before it learnt any SPD M; 2000 steps now all solve, each passive. (2) Two bodies of
+ * mass 0.5 coupled by 0.49999 (M's condition 1e5): in float Newton stopped converging at step
+ * 25 for good (1975 of 2000 steps NO_CONVERGENCE); with 3 levels of substeps every step is
+ * stored, each passive, none falls back. */
+static void mm_hard_run(int nb, edmi_real m, edmi_real mc, int levels, const char *who)
+{
+    const edmi_real q[3][3] = {{0, 0, 0}, {EDMI_R(1.1), EDMI_R(0.1), 0},
+                               {EDMI_R(2.0), EDMI_R(-0.1), EDMI_R(0.2)}};
+    const edmi_real p[3][3] = {{0, 1, 0}, {EDMI_R(0.5), 0, EDMI_R(-0.3)}, {0, -1, EDMI_R(0.4)}};
+    edmi_potential sp = edmi_pot_harmonic(10, 1);
+    edmi_params prm = edmi_default_params();
+    edmi_step_result res;
+    long n, ok = 0, fb = 0, split = 0, broken = 0;
+    int i;
+    prm.scheme = EDMI_PM;
+    prm.fallback = 1;
+    prm.substep_levels = levels;
+    MM_CHECK(edmi_init(&mm_sys, &prm) == EDMI_OK, "init");
+    for (i = 0; i < nb; i++)
+        MM_CHECK(edmi_add_body(&mm_sys, m, q[i], p[i], 0) == EDMI_OK, "body");
+    for (i = 0; i + 1 < nb; i++) {
+        MM_CHECK(edmi_add_pair(&mm_sys, i, i + 1, &sp, 0) == EDMI_OK, "spring");
+        MM_CHECK(edmi_set_mass_coupling(&mm_sys, i, i + 1, mc) == EDMI_OK, "coupling");
+    }
+    for (n = 0; n < 2000; n++) {
+        tp_delta d;
+        mm_copy = mm_sys;
+        ok += edmi_step(&mm_sys, &mm_work, EDMI_R(1e-2), &res) == EDMI_OK;
+        fb += res.fallbacks > 0;
+        split += res.substeps > 1;
+        broken += !tp_delta_h(&mm_copy, &mm_sys, &res, &d) || d.broken;
+    }
+    MM_REPORT(ok == 2000 && fb == 0 && broken == 0, who,
+              ", PM, fallback set, 2000 steps of 1e-2: all solved, none falls back, each passive;"
+              " OK, split into substeps", 2, (long double)ok, (long double)split, 0.0L);
+}
+
+static void mm_hard(void)
+{
+    mm_hard_run(3, 1, EDMI_R(0.6), 0, "M [1 .6 0; .6 1 .6; 0 .6 1]");
+    mm_hard_run(2, EDMI_R(0.5), EDMI_R(0.49999), 3, "M [.5 .49999; .49999 .5], 3 levels");
+}
+
 int main(void)
 {
     edmi_scheme s;
@@ -842,6 +888,7 @@ int main(void)
     for (s = EDMI_GE; s <= EDMI_PT; s = (edmi_scheme)(s + 1))
         mm_guarded(s, 400, EDMI_R(1e-3));
     mm_fallback();
+    mm_hard();
     mm_hanging_guard();
     mm_orders();
     mm_lumped_differs();

@@ -2,10 +2,16 @@
  * arithmetic and LG's quotient is 0/0; (b) LG near its switch (the paper's section 3.5
  * study: tol_Q = 1e-1, dt = 1e-1, T = 100); (c) a near-collision of two Lennard-Jones bodies
  * deep inside sigma; (d) stiff springs with omega dt >> 1. Every case runs in both
- * precisions with bounds built from EDMI_EPS and the Newton residual (scenes.c). */
+ * precisions with bounds built from EDMI_EPS and the Newton residual (scenes.c). And the cases
+ * of issue 21 where promises broke: (e) EDMI_OK deep in a repulsive wall with nothing solved,
+ * substeps and the fallback there; (f) a user potential the guard failed on for ever; (g) a
+ * fallback that froze the body for good (l_max = 1). */
 #include "harness.h"
 #include "suites.h"
 #include "scenes.h"
+#include "passive.h"
+
+#include <string.h>
 
 /* A per-step law holds when measured <= derived bound: ratio 1. */
 #define HARD_RATIO_MAX EDMI_R(1.0)
@@ -355,11 +361,222 @@ static void hard_stiff(void)
                           "neo-Hookean dt=0.5 l_max=200");
 }
 
+
+/* ---- (e) OK means solved, substeps, the fallback as a contract ------------------------------
+ * Two bodies 1.12 apart deep in the repulsive wall of a Lennard-Jones link (epsilon 100, sigma
+ * 3 to 236: V up to 3e30), masses 1, momenta (5, 0, 0) and (10, 0, 0), bodies on the y axis;
+ * one step of each scheme (and LG's quotient) at dt 1e-3 to 0.26 from that state. Without
+ * options a step returns EDMI_OK only with the stored state solving the scheme within the
+ * bound edmi.h states, judged by tests/passive.c's own magnitudes (tp_solved <= 16
+ * EDMI_SOLVED; before this check existed 64 of 78 OK steps in double were off by 1e10 to
+ * 1e30, with a correction of exactly 0 and residual = residual0 = 1), and otherwise leaves
+ * the system bit-identical. Substeps (3 levels) solve more of them, each passive with the
+ * guard on; with the fallback too, every step returns EDMI_OK with a passive state. */
+#define HARD_WALL_NS 5
+#define HARD_WALL_ND 4
+static const edmi_real hard_wall_sigma[HARD_WALL_NS] = {3, 10, 50, 100, 236};
+static const edmi_real hard_wall_dt[HARD_WALL_ND] = {EDMI_R(1e-3), EDMI_R(1e-2), EDMI_R(0.1),
+                                                     EDMI_R(0.26)};
+static edmi_system hard_s0;
+
+static void hard_wall_build(edmi_system *sys, edmi_scheme scheme, int quotient, edmi_real sigma,
+                            int levels, int fallback)
+{
+    const edmi_real q0[3] = {0, 0, 0}, q1[3] = {0, EDMI_R(1.12), 0};
+    const edmi_real p0[3] = {5, 0, 0}, p1[3] = {10, 0, 0};
+    edmi_potential lj = edmi_pot_lj(100, sigma);
+    edmi_params prm = edmi_default_params();
+    prm.scheme = scheme;
+    prm.lg_form = quotient ? EDMI_LG_QUOTIENT : EDMI_LG_CLOSED;
+    prm.substep_levels = levels;
+    prm.fallback = fallback;
+    CHECK_STATUS(edmi_init(sys, &prm), EDMI_OK);
+    CHECK_STATUS(edmi_add_body(sys, 1, q0, p0, 0), EDMI_OK);
+    CHECK_STATUS(edmi_add_body(sys, 1, q1, p1, 0), EDMI_OK);
+    CHECK_STATUS(edmi_add_pair(sys, 0, 1, &lj, 0), EDMI_OK);
+}
+
+/* One configuration over the grid: OK steps, split ones, fallbacks; every check inside. */
+static void hard_wall_grid(int levels, int fallback, long *ok, long *split, long *fb)
+{
+    edmi_system *sys = &ts_sys[0];
+    int s, q, i, j;
+    *ok = *split = *fb = 0;
+    for (s = 0; s < 5; s++)
+        for (q = 0; q < (hard_schemes[s] == EDMI_LG ? 2 : 1); q++)
+            for (i = 0; i < HARD_WALL_NS; i++)
+                for (j = 0; j < HARD_WALL_ND; j++) {
+                    edmi_step_result res;
+                    edmi_status st;
+                    int guard = hard_schemes[s] == EDMI_GE || hard_schemes[s] == EDMI_PM ||
+                                hard_schemes[s] == EDMI_PT;
+                    hard_wall_build(sys, hard_schemes[s], q, hard_wall_sigma[i], levels,
+                                    fallback);
+                    hard_s0 = *sys;
+                    st = edmi_step(sys, &ts_work, hard_wall_dt[j], &res);
+                    if (fallback)
+                        CHECK_STATUS(st, EDMI_OK);
+                    if (st != EDMI_OK) {
+                        CHECK(memcmp(sys, &hard_s0, sizeof *sys) == 0);
+                        continue;
+                    }
+                    ++*ok;
+                    *split += res.substeps > 1;
+                    *fb += res.stop == EDMI_STOP_FALLBACK;
+                    CHECK((res.cause == EDMI_OK) == (res.substeps == 1 && res.fallbacks == 0));
+                    if (res.substeps == 1 && res.stop != EDMI_STOP_FALLBACK &&
+                        !(res.guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG))) {
+                        edmi_status rs;
+                        int body, which;
+                        long double x = tp_solved(&hard_s0, sys, hard_wall_dt[j], &ts_work, &rs,
+                                                  &body, &which);
+                        CHECK_STATUS(rs, EDMI_OK);
+                        CHECK(x <= 16.0L * (long double)EDMI_SOLVED);
+                    }
+                    if (guard || res.stop == EDMI_STOP_FALLBACK) { /* passive, tank included */
+                        tp_delta d;
+                        CHECK(tp_delta_h(&hard_s0, sys, &res, &d) && !d.broken);
+                    }
+                }
+}
+
+static void hard_wall(void)
+{
+    long ok0, split0, fb0, ok3, split3, fb3, okf, splitf, fbf;
+    hard_wall_grid(0, 0, &ok0, &split0, &fb0);
+    hard_wall_grid(3, 0, &ok3, &split3, &fb3);
+    hard_wall_grid(3, 1, &okf, &splitf, &fbf);
+    CHECK(split0 == 0 && fb0 == 0 && fb3 == 0);
+    CHECK(ok3 > ok0 && split3 == ok3 - ok0 && split3 > 0);
+    CHECK(okf == 6L * HARD_WALL_NS * HARD_WALL_ND);
+    th_puts("  LJ wall, 120 single steps: OK (solved) ");
+    th_put_int(ok0);
+    th_puts("; with 3 levels of substeps ");
+    th_put_int(ok3);
+    th_puts(" (");
+    th_put_int(split3);
+    th_puts(" split); with the fallback too ");
+    th_put_int(okf);
+    th_puts(" OK, ");
+    th_put_int(fbf);
+    th_puts(" of them fallbacks\n");
+}
+
+/* ---- (f) a user potential the guard failed on ------------------------------------------------
+ * V = k/2 (r - r0)^2, k 50, r0 1, split as README asks (V_c = V_+ = V, V_e = V_- = 0), with its
+ * exact divided difference; one body m 1 at (1.3, 0, 0), p (0, 2, 0), anchored at the origin,
+ * dt 1e-3, PT and GE with the guard: every step failed with EDMI_ERR_PASSIVITY from step ~60
+ * (double) / ~120 (float) of an ordinary state before the guard's rework; 2000 steps now all
+ * solve, none falls back. */
+typedef struct hard_user_ctx {
+    edmi_real k, r0;
+} hard_user_ctx;
+
+static int hard_user_fn(void *ctx, edmi_real r, edmi_pot_parts *out)
+{
+    const hard_user_ctx *u = (const hard_user_ctx *)ctx;
+    edmi_real x = r - u->r0;
+    int j;
+    out->c[0] = EDMI_R(0.5) * u->k * x * x;
+    out->c[1] = u->k * x;
+    out->c[2] = u->k;
+    out->c[3] = out->c[4] = EDMI_R(0.0);
+    for (j = 0; j < 5; j++) {
+        out->sp[j] = out->c[j];
+        out->e[j] = out->sm[j] = EDMI_R(0.0);
+    }
+    return 0;
+}
+
+static int hard_user_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1)
+{
+    const hard_user_ctx *u = (const hard_user_ctx *)ctx;
+    *dd = EDMI_R(0.5) * u->k * ((d1 - u->r0) + (d0 - u->r0));
+    *dd_d1 = EDMI_R(0.5) * u->k;
+    return 0;
+}
+
+static hard_user_ctx hard_user = {EDMI_R(50.0), EDMI_R(1.0)};
+
+static void hard_user_spring(void)
+{
+    const edmi_scheme sch[2] = {EDMI_PT, EDMI_GE};
+    const edmi_real q[3] = {EDMI_R(1.3), 0, 0}, p[3] = {0, 2, 0}, o[3] = {0, 0, 0};
+    edmi_potential pot = edmi_pot_user(hard_user_fn, hard_user_dd, &hard_user);
+    edmi_system *sys = &ts_sys[0];
+    int s;
+    for (s = 0; s < 2; s++) {
+        edmi_params prm = edmi_default_params();
+        edmi_step_result res;
+        long n, ok = 0, fb = 0, moved = 0;
+        prm.scheme = sch[s];
+        prm.fallback = 1;
+        CHECK_STATUS(edmi_init(sys, &prm), EDMI_OK);
+        CHECK_STATUS(edmi_add_body(sys, 1, q, p, 0), EDMI_OK);
+        CHECK_STATUS(edmi_add_anchor(sys, 0, o, &pot, 0), EDMI_OK);
+        for (n = 0; n < 2000; n++) {
+            ok += edmi_step(sys, &ts_work, EDMI_R(1e-3), &res) == EDMI_OK;
+            fb += res.stop == EDMI_STOP_FALLBACK;
+            moved += (res.guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG)) != 0;
+        }
+        CHECK(ok == 2000 && fb == 0);
+        th_puts("  user spring k 50, ");
+        th_puts(ts_scheme_name(sch[s]));
+        th_puts(": 2000 steps, ");
+        th_put_int(ok);
+        th_puts(" OK, ");
+        th_put_int(fb);
+        th_puts(" fallbacks, guard impulse/drag on ");
+        th_put_int(moved);
+        th_puts("\n");
+    }
+}
+
+/* ---- (g) a fallback that does not freeze ----------------------------------------------------
+ * The 1 kHz virtual spring (m 0.1, k 1e4, rest length 0.05, anchored) under a port flipping
+ * sign every tick (tests/passive.c, TP_FLIP), PM with l_max = 1: one correction never reaches
+ * the round-off floor of a non-linear link, so every step falls back. The fallback used to
+ * keep the positions and zero the momenta, and the body never moved again; now it stores
+ * Newton's last iterate made passive by the guard: every step EDMI_OK, passive (the port's
+ * work included), and the body goes on moving. */
+static void hard_no_freeze(void)
+{
+    edmi_params prm = ts_params(EDMI_PM);
+    edmi_system *sys = &ts_sys[0];
+    edmi_step_result res;
+    edmi_real dt, q0[3], span = EDMI_R(0.0);
+    long n, ok = 0, fb = 0, broken = 0;
+    int i;
+    prm.l_max = 1;
+    CHECK_STATUS(tp_build(TP_FLIP, &prm, sys, &dt), EDMI_OK);
+    for (i = 0; i < 3; i++)
+        q0[i] = sys->body[0].q[i];
+    for (n = 0; n < 2000; n++) {
+        tp_delta d;
+        tp_control(TP_FLIP, sys, n);
+        hard_s0 = *sys;
+        ok += edmi_step(sys, &ts_work, dt, &res) == EDMI_OK;
+        fb += res.stop == EDMI_STOP_FALLBACK && res.cause == EDMI_ERR_NO_CONVERGENCE;
+        broken += !tp_delta_h(&hard_s0, sys, &res, &d) || d.broken;
+        for (i = 0; i < 3; i++) {
+            edmi_real x = sys->body[0].q[i] - q0[i];
+            span = x > span ? x : (-x > span ? -x : span);
+        }
+    }
+    CHECK(ok == 2000 && fb == 2000 && broken == 0);
+    CHECK(span > EDMI_R(0.01)); /* the rest length is 0.05: moving, not held */
+    th_note_real("  l_max 1 under a flipping port, 2000 fallbacks: largest excursion", span);
+}
+
 void suite_hard(void)
 {
-    th_suite("hard: circular orbit, LG switch, near-collision, stiff springs");
+    th_suite("hard: circular orbit, LG switch, near-collision, stiff springs, the wall, "
+             "fallbacks");
     hard_orbit();
     hard_lg_switch();
     hard_collision();
     hard_stiff();
+    hard_wall();
+    hard_user_spring();
+    hard_no_freeze();
 }
