@@ -30,8 +30,9 @@
  * 3. Forced worst cases: a state from which Newton does not stop within BT_LMAX_SEARCH
  *    corrections (searched for by running the capacity scene at dt = 0.3 and the stiff
  *    scene), stepped with params.fallback = 1 and l_max = 4, 8, 20: each step must return
- *    EDMI_OK with EDMI_STOP_FALLBACK after exactly l_max corrections. The program checks that
- *    every step it timed lies within the bound.
+ *    EDMI_OK with EDMI_STOP_FALLBACK after exactly l_max corrections; and with
+ *    params.substep_levels = 1, 2, 3 (l_max = 4), against the substeps' bound. The program
+ *    checks that every step it timed lies within its bound.
  *
  * Counting. QEMU does not model the DWT cycle counter, so the count comes from SysTick
  * under `-icount shift=0`: every guest instruction advances virtual time by 1 ns and SysTick
@@ -697,11 +698,14 @@ static void bt_max(bt_piece *p, long v)
 
 /* Step bt_sys (a copy of bt_snap) with l_max, fallback and guard changed; the state is
  * restored to bt_snap. */
+static int bt_levels; /* params.substep_levels of bt_variant's steps (0 but in section 3) */
+
 static long bt_variant(edmi_real dt, int l_max, int fallback, edmi_guard_mode guard,
                        edmi_status *st)
 {
     long c;
     bt_sys = bt_snap;
+    bt_sys.params.substep_levels = bt_levels;
     bt_sys.params.l_max = l_max;
     bt_sys.params.fallback = fallback;
     bt_sys.params.guard = guard;
@@ -814,14 +818,27 @@ static int bt_pieces_run(bt_pieces *pc, const char *name, bt_build_fn build, edm
  * there every smaller l_max is exhausted too. Time F(l_max = k) for k = 1..BT_LMAX_SEARCH
  * without fallback (one correction at a time, into pc->iter), then the forced steps with
  * fallback at l_max = 4, 8, BT_LMAX_SEARCH into forced[] (-1: not forced). */
+/* Forced steps with substeps (section 3): from the forced state, PM, fallback on,
+ * l_max = BT_SUB_LMAX, substep_levels = 1..BT_SUB_LEVELS: instructions, substeps stored,
+ * fallbacks among them, Newton corrections; -1: not forced. */
+#define BT_SUB_LEVELS 3
+#define BT_SUB_LMAX 4
+typedef struct bt_sub {
+    long insns[BT_SUB_LEVELS];
+    int substeps[BT_SUB_LEVELS], fallbacks[BT_SUB_LEVELS], iterations[BT_SUB_LEVELS];
+} bt_sub;
+static bt_sub bt_sub_full, bt_sub_stiff;
+
 static int bt_forced(const char *name, bt_build_fn build, edmi_real dt, void (*move)(void),
-                     bt_pieces *pc, long forced[3])
+                     bt_pieces *pc, long forced[3], bt_sub *sub)
 {
     static const int lmax[3] = {4, 8, BT_LMAX_SEARCH};
     edmi_status st;
     long prev = 0;
     int k, found = -1, prev_ok = 0;
     forced[0] = forced[1] = forced[2] = -1;
+    for (k = 0; k < BT_SUB_LEVELS; k++)
+        sub->insns[k] = -1;
     bt_scene_now = name;
     bt_scheme_now = (int)EDMI_PM;
     tgt_puts("| ");
@@ -885,6 +902,16 @@ static int bt_forced(const char *name, bt_build_fn build, edmi_real dt, void (*m
     tgt_puts(forced[0] >= 0 && forced[1] >= 0 && forced[2] >= 0
                  ? " EDMI_OK, EDMI_STOP_FALLBACK, iterations = l_max, 0 halvings |\n"
                  : " |\n");
+    for (k = 0; k < BT_SUB_LEVELS; k++) {
+        bt_levels = k + 1;
+        sub->insns[k] = bt_variant(dt, BT_SUB_LMAX, 1, EDMI_GUARD_AUTO, &st);
+        sub->substeps[k] = bt_res.substeps;
+        sub->fallbacks[k] = bt_res.fallbacks;
+        sub->iterations[k] = bt_res.iterations;
+        if (st != EDMI_OK)
+            sub->insns[k] = -1;
+    }
+    bt_levels = 0;
     return forced[0] >= 0 && forced[1] >= 0 && forced[2] >= 0;
 }
 
@@ -1003,8 +1030,9 @@ static int bt_bound_section(void)
     tgt_put_uint(BT_LMAX_SEARCH);
     tgt_puts(" | result |\n|---|---|---:|---:|---:|---|\n");
     ok &= bt_forced("capacity, dt = 0.3", bt_full, BT_FULL_FORCE_DT, bt_full_move, &pc,
-                    forced_full);
-    ok &= bt_forced("stiff (1 body), dt = 0.1", bt_stiff, EDMI_R(0.1), NULL, &pc, forced_stiff);
+                    forced_full, &bt_sub_full);
+    ok &= bt_forced("stiff (1 body), dt = 0.1", bt_stiff, EDMI_R(0.1), NULL, &pc, forced_stiff,
+                    &bt_sub_stiff);
 
     tgt_puts("\n| piece | ");
     tgt_puts(bt_unit_name());
@@ -1048,6 +1076,41 @@ static int bt_bound_section(void)
             bt_put_long(forced_stiff[k]);
         else
             tgt_puts("-");
+        tgt_puts(" |\n");
+    }
+    /* Substeps (params.substep_levels = k): a failed step is taken again as substeps, at
+     * worst 2^(k+1) - 1 Newton solves that all fail (the step's own and 2^(k+1) - 2 more)
+     * and 2^k fallbacks: T_k(L) <= (2^(k+1) - 1) (T(L) - fallback) + 2^k fallback. */
+    tgt_puts("\nSubsteps from the forced states (PM, fallback on, l_max = ");
+    tgt_put_uint(BT_SUB_LMAX);
+    tgt_puts("): T_k(L) <= (2^(k+1) - 1) (T(L) - fallback) + 2^k fallback, T(L) the no-"
+             "halvings bound above\n\n| substep_levels = k | bound | forced, capacity: ");
+    tgt_puts(bt_unit_name());
+    tgt_puts(" (substeps, fallbacks, corrections) | forced, stiff |\n|---:|---:|---:|---:|\n");
+    for (k = 0; k < BT_SUB_LEVELS; k++) {
+        unsigned long t = bt_bound(&pc, BT_SUB_LMAX, 0L) - (unsigned long)pc.fallback.max;
+        unsigned long b = ((2UL << (k + 1)) - 1UL) * t + (1UL << (k + 1)) * (unsigned long)pc.fallback.max;
+        const bt_sub *sb[2] = {&bt_sub_full, &bt_sub_stiff};
+        tgt_puts("| ");
+        tgt_put_uint((unsigned long)k + 1UL);
+        tgt_puts(" | ");
+        tgt_put_uint(b);
+        for (s = 0; s < 2; s++) {
+            tgt_puts(" | ");
+            if (sb[s]->insns[k] < 0) {
+                tgt_puts("-");
+                continue;
+            }
+            bt_put_long(sb[s]->insns[k]);
+            tgt_puts(" (");
+            tgt_put_uint((unsigned long)sb[s]->substeps[k]);
+            tgt_puts(", ");
+            tgt_put_uint((unsigned long)sb[s]->fallbacks[k]);
+            tgt_puts(", ");
+            tgt_put_uint((unsigned long)sb[s]->iterations[k]);
+            tgt_puts(")");
+            ok &= sb[s]->insns[k] <= (long)b;
+        }
         tgt_puts(" |\n");
     }
     /* The bound must hold for every step timed here (l_max = the default). */
