@@ -3381,7 +3381,7 @@ static int edmi__held(const edmi_system *sys, const edmi_workspace *work)
 }
 
 static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
-                               edmi_real cap, edmi_step_result *res)
+                               edmi_real cap, int quick, edmi_step_result *res)
 {
     edmi__comp c[3];
     edmi__dw h_newton;
@@ -3422,11 +3422,13 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
                 return EDMI_ERR_PASSIVITY;
         }
         /* at the bottom of the range (scaled) the search's working-precision model of the
-         * candidates' energies underflows: only the last move applies */
-        if (bal->scale == EDMI__ONE && !edmi__settled(&t) &&
+         * candidates' energies underflows: only the last move applies; so too for the
+         * fallback's quick certificate (quick), whose time the bound counts */
+        if (bal->scale == EDMI__ONE && !quick && !edmi__settled(&t) &&
             edmi__guard_moves(sys, work, bal, &t, res) < 0)
             return EDMI_ERR_PASSIVITY;
-        for (i = 0; bal->scale == EDMI__ONE && i < EDMI__GUARD_NUDGES && !edmi__settled(&t);
+        for (i = 0; bal->scale == EDMI__ONE && !quick && i < EDMI__GUARD_NUDGES &&
+                    !edmi__settled(&t);
              i++) {
             n = edmi__pick_comps(sys, work, c);
             if (n == 0)
@@ -3672,7 +3674,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
  * head): the plain one where the step dissipates more than its bound and the tank stays
  * full, else double-word, then the guard's moves where the tank cannot cover the step. */
 static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                                edmi_step_result *res)
+                                int quick, edmi_step_result *res)
 {
     edmi__balance bal;
     edmi__plain pl;
@@ -3712,7 +3714,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         return EDMI_ERR_RANGE; /* a link energy (|r|^2, V) beyond the range */
     res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
     if (guard) {
-        st = edmi__guard(sys, work, &bal, res->tank_cap, res);
+        st = edmi__guard(sys, work, &bal, res->tank_cap, quick, res);
         if (st == EDMI_ERR_PASSIVITY && bal.scale != EDMI__ONE) {
             /* at the bottom of the range a position's rounding can exceed what every move
              * of the momenta covers (double, |q| ~ 1e-321): the bodies stop where they were */
@@ -4071,20 +4073,21 @@ static edmi_status edmi__attempt(const edmi_system *sys, edmi_workspace *work, e
     if (!edmi__finite(res->residual0)) /* beyond the precision's range: nothing to solve */
         return EDMI_ERR_RANGE;
     st = edmi__newton(sys, work, dt, res);
-    return st == EDMI_OK ? edmi__finish(sys, work, dt, res) : st;
+    return st == EDMI_OK ? edmi__finish(sys, work, dt, 0, res) : st;
 }
 
 /* The fallback after a failed attempt (edmi_params.fallback): with the guard on, Newton's last
  * iterate where l_max stopped it closer than the predictor (by half, in the scaled residual),
- * made passive by the guard, so that a run of hard steps keeps moving; else the frozen state
- * (edmi__freeze). */
+ * certified by the guard's quick path (the tank, or the momenta set to the frame's: no
+ * search, so that its time stays that of a certificate), so that a run of hard steps keeps
+ * moving; else the frozen state (edmi__freeze). */
 static edmi_status edmi__fallback(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                   edmi_step_result *res, edmi_status failure)
 {
     edmi_status st;
     if (failure == EDMI_ERR_NO_CONVERGENCE && edmi__guard_on(&sys->params) &&
         res->residual <= EDMI__HALF * res->residual0) {
-        st = edmi__finish(sys, work, dt, res);
+        st = edmi__finish(sys, work, dt, 1, res);
         if (st == EDMI_OK) {
             res->stop = EDMI_STOP_FALLBACK;
             return EDMI_OK;

@@ -484,8 +484,9 @@ typedef enum edmi_stop {
     EDMI_STOP_CONVERGED = 0, /*!< at the round-off floor: the next Newton correction,
                                   predicted from the last two in the quadratic regime
                                   (c_l^3 / c_l-1^2, with c_l <= c_l-1 / 4 and a residual
-                                  below sqrt(eps) x residual0), is below eps in the scaled norm, so it could not move the iterate by a unit
-                                  roundoff; or a correction or the residual is exactly 0 (a correction
+                                  below sqrt(eps) x residual0), is below eps in the scaled
+                                  norm, so it could not move the iterate by a unit roundoff;
+                                  or a correction or the residual is exactly 0 (a correction
                                   of 0 short of EDMI_SOLVED: EDMI_ERR_NO_CONVERGENCE) */
     EDMI_STOP_STALLED,   /*!< round-off noise above eps: the residual stopped halving (and
                               did not more than double) after Newton's quadratic regime (this

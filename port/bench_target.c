@@ -886,12 +886,16 @@ static int bt_forced(const char *name, bt_build_fn build, edmi_real dt, void (*m
     }
     tgt_puts(" |");
     for (k = 0; k < 3; k++) {
+        edmi_status st_nf;
+        long nf = bt_variant(dt, lmax[k], 0, EDMI_GUARD_AUTO, &st_nf);
         long c = bt_variant(dt, lmax[k], 1, EDMI_GUARD_AUTO, &st);
         tgt_puts(" ");
         bt_put_long(c);
         if (st == EDMI_OK && bt_res.stop == EDMI_STOP_FALLBACK && bt_res.iterations == lmax[k] &&
             bt_res.halvings == 0) {
             forced[k] = c;
+            if (st_nf == EDMI_ERR_NO_CONVERGENCE) /* the fallback from Newton's last iterate */
+                bt_max(&pc->fallback, c - nf);
         } else {
             tgt_puts(" (FAILED: ");
             tgt_puts(edmi_status_name(st));
@@ -1047,7 +1051,7 @@ static int bt_bound_section(void)
     bt_put_piece("last: last correction + all after Newton", &pc.last,
                  "step - F(l_max = its iterations - 1)");
     bt_put_piece("fallback: fallback state + commit", &pc.fallback,
-                 "F(l_max = 1, fallback) - F(l_max = 1)");
+                 "F(l_max = L, fallback) - F(l_max = L), L = 1 and the forced states'");
     if (pc.first.n == 0 || pc.iter.n == 0 || pc.last.n == 0 || pc.fallback.n == 0 ||
         pc.eval.n == 0) {
         tgt_puts("FAILED: a piece was not observed\n");
