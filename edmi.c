@@ -4193,6 +4193,19 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     for (h = dt, i = 0; i < k; i++) /* the finest substep stays a normal number */
         if (!((h *= EDMI__HALF) >= EDMI__REAL_MIN))
             k = i;
+    if (k == 0) { /* the step's own attempt (in work) falls back as it is */
+        st = sys->params.fallback ? edmi__fallback(sys, work, dt, res, cause) : cause;
+        if (st != EDMI_OK)
+            return st;
+        res->iterations = iterations;
+        res->halvings = halvings;
+        res->substeps = res->fallbacks = 1;
+        res->cause = cause;
+        edmi__commit(sys, work, res->tank);
+        for (j = 0; j < sys->n_links; j++)
+            edmi__copy3(work->lw[j].f, sys->link_force[j]);
+        return EDMI_OK;
+    }
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(sys->body[a].q, work->q0[a]);
         edmi__copy3(sys->body[a].p, work->p0[a]);
@@ -4205,32 +4218,29 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         edmi__copy3(sys->link[j].anchor, work->lw[j].xs);
         edmi__copy3(sys->anchor_next[j], work->lw[j].xt);
     }
-    sub = *res; /* k = 0: the step's own attempt (in work) falls back as it is */
     edmi__clear_result(res);
     res->cause = cause;
     res->residual0 = residual0;
-    level = k > 0 ? 1 : 0;
+    level = 1;
     while (pos < (1 << k)) {
         int units = 1 << (k - level);
         edmi_real frac = (edmi_real)units / (edmi_real)(1L << k); /* a power of two */
-        if (level > 0) {
-            sys->n_moving = n_moving;
-            for (i = 0; i < n_moving; i++) {
-                j = sys->moving[i];
-                edmi__anchor_at(&work->lw[j], pos, k, sys->link[j].anchor);
-                edmi__anchor_at(&work->lw[j], pos + units, k, sys->anchor_next[j]);
-            }
-            st = edmi__prepare_links(sys, work);
-            if (st != EDMI_OK) { /* a substep's start the potentials refuse: no retry */
-                edmi__restore(sys, work, tank0, n_moving);
-                res->iterations = iterations;
-                res->halvings = halvings;
-                return st;
-            }
-            st = edmi__attempt(sys, work, dt * frac, &sub);
-            iterations += sub.iterations;
-            halvings += sub.halvings;
+        sys->n_moving = n_moving;
+        for (i = 0; i < n_moving; i++) {
+            j = sys->moving[i];
+            edmi__anchor_at(&work->lw[j], pos, k, sys->link[j].anchor);
+            edmi__anchor_at(&work->lw[j], pos + units, k, sys->anchor_next[j]);
         }
+        st = edmi__prepare_links(sys, work);
+        if (st != EDMI_OK) { /* a substep's start the potentials refuse: no retry */
+            edmi__restore(sys, work, tank0, n_moving);
+            res->iterations = iterations;
+            res->halvings = halvings;
+            return st;
+        }
+        st = edmi__attempt(sys, work, dt * frac, &sub);
+        iterations += sub.iterations;
+        halvings += sub.halvings;
         if (st != EDMI_OK && edmi__is_step_failure(st) && level < k) {
             level++; /* the same start, half as far */
             continue;

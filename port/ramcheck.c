@@ -14,9 +14,10 @@
  * Assumptions: int is 4 bytes; edmi_real and pointers are aligned to their size (AAPCS Arm,
  * RISC-V ilp32/lp64, x86-64, AArch64; not i386, where double is 4-aligned in structs); an
  * enum is 4 bytes except on arm-none-eabi, whose GCC defaults to -fshort-enums (E = 1).
- *   edmi_params    = up(up(up(3E, R) + 3R + 2*4 + E, R) + R + 4, R)   3 enums, 3 reals,
+ *   edmi_params    = up(up(up(3E, R) + 3R + 2*4 + E, R) + R + 2*4, R) 3 enums, 3 reals,
  *                                                                2 ints, guard (enum),
- *                                                                tank_cap, fallback (int)
+ *                                                                tank_cap, substep_levels and
+ *                                                                fallback (ints)
  *   edmi_potential = up(up(up(E, R) + 2R, P) + 3P, RP)           kind, a, b, fn, dd, ctx
  *   edmi_link      = up(2*4 + 3R, RP) + edmi_potential           a, b, anchor[3], pot
  *   edmi_body      = 7R                                          m, q[3], p[3]
@@ -31,12 +32,13 @@
  *                                                                (G = EDMI_MAX_MASS_GAP, 0 by
  *                                                                default), tank, link_force[L][3]
  *     sizeof(edmi_system) = up(s, RP)
- *   edmi_link_ws   = up(47R + 12, R)    r0[3], 12 scalars, x1[3], f[3], gamma, rm[3], u[3],
+ *   edmi_link_ws   = up(56R + 12, R)    r0[3], 12 scalars, x1[3], f[3], gamma, rm[3], u[3],
  *                                       the balance's 6 reals and the 13 of its cached end,
- *                                       bal_on, have1, end_kind
- *   edmi_workspace = up((M + 26N + 9D) R + L*edmi_link_ws + 4(6N + L + 3), R)
+ *                                       the substeps' fsum[3], xs[3], xt[3], bal_on, have1,
+ *                                       end_kind
+ *   edmi_workspace = up((M + 32N + 9D) R + L*edmi_link_ws + 4(6N + L + 3), R)
  *                    reals, lw[L], then the ints row[3N], order[L], n_pair, piv[3N], kb, upper
- * The 26N reals are q1, p1, rq, rp, dp, rhs (3 each), sq, sp, h (1 each) and kend (5); M =
+ * The 32N reals are q1, p1, rq, rp, dp, rhs, q0, p0 (3 each), sq, sp, h (1 each) and kend (5); M =
  * EDMI_MAX_MATRIX (default 9N^2) is the Newton matrix; 9 reals per damper its tangent block. */
 #include "../edmi.h"
 
@@ -51,7 +53,7 @@
 #define TGT_RP TGT_MAX(TGT_R, TGT_P)
 
 #define TGT_PARAMS \
-    TGT_UP(TGT_UP(TGT_UP(3u * TGT_E, TGT_R) + 3u * TGT_R + 8u + TGT_E, TGT_R) + TGT_R + 4u, TGT_R)
+    TGT_UP(TGT_UP(TGT_UP(3u * TGT_E, TGT_R) + 3u * TGT_R + 8u + TGT_E, TGT_R) + TGT_R + 8u, TGT_R)
 #define TGT_POT TGT_UP(TGT_UP(TGT_UP(TGT_E, TGT_R) + 2u * TGT_R, TGT_P) + 3u * TGT_P, TGT_RP)
 #define TGT_LINK (TGT_UP(8u + 3u * TGT_R, TGT_RP) + TGT_POT)
 #define TGT_DAMPER (TGT_UP(4u, TGT_R) + TGT_R)
@@ -64,29 +66,29 @@
 #define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G + TGT_R)
 #define TGT_SYSTEM TGT_UP(TGT_S6, TGT_RP)
 #define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
-#define TGT_LINK_WS TGT_UP(47u * TGT_R + 12u, TGT_R)
+#define TGT_LINK_WS TGT_UP(56u * TGT_R + 12u, TGT_R)
 #define TGT_WORKSPACE                                                                         \
-    TGT_UP((TGT_M + 26u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                  \
+    TGT_UP((TGT_M + 32u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                  \
                4u * (6u * TGT_N + TGT_L + 3u),                                                \
            TGT_R)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
  * K + R M + b N + l L + d D + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
- *   float:  K = 96 with 1-byte enums (arm-none-eabi), 104 with 4-byte ones; b = 172, d = 44;
- *           l = 276 with 4-byte pointers, 296 with 8-byte ones; pad = 0 with 4-byte
- *           pointers, else 4 when N is even (alignment of link[] after body[N]) + 4 when
+ *   float:  K = 100 with 1-byte enums (arm-none-eabi), 108 with 4-byte ones; b = 196, d = 44;
+ *           l = 312 with 4-byte pointers, 332 with 8-byte ones; pad = 0 with 4-byte
+ *           pointers, else 4 when N is odd (alignment of link[] after body[N]) + 4 when
  *           L + N G is odd (the system's tail, rounded up to the pointers' 8)
- *   double: K = 156 with 1-byte enums, 164 with 4-byte ones; b = 316, d = 88;
- *           l = 520 with 4-byte pointers, 528 with 8-byte ones; pad = 4 when N is even (the
+ *   double: K = 156 with 1-byte enums, 164 with 4-byte ones; b = 364, d = 88;
+ *           l = 592 with 4-byte pointers, 600 with 8-byte ones; pad = 4 when N is even (the
  *           int array forced[N] before force[N][3]) + 8 when L is even (the int arrays
  *           moving[L] before anchor_next[L][3], and the workspace's int tail rounded up to 8) */
-#define TGT_CLOSED_K ((TGT_R == 4u ? 96u : 156u) + (TGT_E == 4u ? 8u : 0u))
-#define TGT_CLOSED_B (TGT_R == 4u ? 172u : 316u)
-#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 276u : 520u) : (TGT_R == 4u ? 296u : 528u))
+#define TGT_CLOSED_K ((TGT_R == 4u ? 100u : 156u) + (TGT_E == 4u ? 8u : 0u))
+#define TGT_CLOSED_B (TGT_R == 4u ? 196u : 364u)
+#define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 312u : 592u) : (TGT_R == 4u ? 332u : 600u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_PAD                                                                      \
     (TGT_R == 8u   ? (TGT_N % 2u == 0u ? 4u : 0u) + (TGT_L % 2u == 0u ? 8u : 0u)             \
-     : TGT_P == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) + ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) \
+     : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) + ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) \
                    : 0u)
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + TGT_R * TGT_M + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L +             \
