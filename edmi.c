@@ -4144,6 +4144,19 @@ static void edmi__add_substep(edmi_step_result *res, const edmi_step_result *sub
     res->fallbacks += sub->stop == EDMI_STOP_FALLBACK;
 }
 
+/* Whether the step's sums stay within the range with substep *sub added (each substep's
+ * work is finite, their sum need not be: a port's work that overflows over dt). */
+static int edmi__sums_fit(const edmi_step_result *res, const edmi_step_result *sub, edmi__dw wx,
+                          edmi__dw wa)
+{
+    wx = edmi__dw_add(wx, edmi__dw_of(sub->work_ext));
+    wa = edmi__dw_add(wa, edmi__dw_of(sub->work_anchor));
+    return edmi__finite(edmi__dw_up(wx)) && edmi__finite(edmi__dw_up(wa)) &&
+           edmi__finite(res->diss_damping + sub->diss_damping) &&
+           edmi__finite(res->diss_scheme + sub->diss_scheme) && edmi__finite(res->dh + sub->dh) &&
+           edmi__finite(res->diss_guard + sub->diss_guard);
+}
+
 /* Put the step's start back (the bodies, the tank and the moving anchors), after substeps
  * that failed: the system is then bit-identical to before the call. */
 static void edmi__restore(edmi_system *sys, const edmi_workspace *work, edmi_real tank,
@@ -4247,6 +4260,14 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         }
         if (st != EDMI_OK && edmi__is_step_failure(st) && sys->params.fallback)
             st = edmi__fallback(sys, work, dt * frac, &sub, st);
+        if (st == EDMI_OK && !edmi__sums_fit(res, &sub, wx, wa)) {
+            /* the step's work or balance beyond the range: this substep falls back (the
+             * frozen state does no work but a moved anchor's) or the call fails */
+            st = sys->params.fallback ? edmi__freeze(sys, work, &sub) : EDMI_ERR_RANGE;
+            sub.stop = EDMI_STOP_FALLBACK;
+            if (st == EDMI_OK && !edmi__sums_fit(res, &sub, wx, wa))
+                st = EDMI_ERR_RANGE;
+        }
         if (st != EDMI_OK) {
             edmi__restore(sys, work, tank0, n_moving);
             res->iterations = iterations;

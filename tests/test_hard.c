@@ -464,45 +464,17 @@ static void hard_wall(void)
 
 /* ---- (f) a user potential the guard failed on ------------------------------------------------
  * V = k/2 (r - r0)^2, k 50, r0 1, split as README asks (V_c = V_+ = V, V_e = V_- = 0), with its
- * exact divided difference; one body m 1 at (1.3, 0, 0), p (0, 2, 0), anchored at the origin,
+ * exact divided difference (tests/passive.c, tp_user_harmonic); one body m 1 at (1.3, 0, 0), p (0, 2, 0), anchored at the origin,
  * dt 1e-3, PT and GE with the guard: every step failed with EDMI_ERR_PASSIVITY from step ~60
  * (double) / ~120 (float) of an ordinary state before the guard's rework; 2000 steps now all
  * solve, none falls back. */
-typedef struct hard_user_ctx {
-    edmi_real k, r0;
-} hard_user_ctx;
-
-static int hard_user_fn(void *ctx, edmi_real r, edmi_pot_parts *out)
-{
-    const hard_user_ctx *u = (const hard_user_ctx *)ctx;
-    edmi_real x = r - u->r0;
-    int j;
-    out->c[0] = EDMI_R(0.5) * u->k * x * x;
-    out->c[1] = u->k * x;
-    out->c[2] = u->k;
-    out->c[3] = out->c[4] = EDMI_R(0.0);
-    for (j = 0; j < 5; j++) {
-        out->sp[j] = out->c[j];
-        out->e[j] = out->sm[j] = EDMI_R(0.0);
-    }
-    return 0;
-}
-
-static int hard_user_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1)
-{
-    const hard_user_ctx *u = (const hard_user_ctx *)ctx;
-    *dd = EDMI_R(0.5) * u->k * ((d1 - u->r0) + (d0 - u->r0));
-    *dd_d1 = EDMI_R(0.5) * u->k;
-    return 0;
-}
-
-static hard_user_ctx hard_user = {EDMI_R(50.0), EDMI_R(1.0)};
+static tp_user_harmonic hard_user = {EDMI_R(50.0), EDMI_R(1.0)};
 
 static void hard_user_spring(void)
 {
     const edmi_scheme sch[2] = {EDMI_PT, EDMI_GE};
     const edmi_real q[3] = {EDMI_R(1.3), 0, 0}, p[3] = {0, 2, 0}, o[3] = {0, 0, 0};
-    edmi_potential pot = edmi_pot_user(hard_user_fn, hard_user_dd, &hard_user);
+    edmi_potential pot = edmi_pot_user(tp_user_harmonic_fn, tp_user_harmonic_dd, &hard_user);
     edmi_system *sys = &ts_sys[0];
     int s;
     for (s = 0; s < 2; s++) {

@@ -439,9 +439,9 @@ static edmi_workspace fz_work;
  * test suite's own (tp_solved, tests/passive.c: the residual at the stored state against the
  * terms' magnitudes in long double from public data; a solved step is within 16 EDMI_SOLVED
  * there, a step deep in a repulsive wall that Newton never solved off by 1e10 to 1e30). The
- * guard's impulse, drag, stop and hold move the stored state off Newton's iterate (by energy,
- * not by residual): for those the step is taken again with the guard off, which stores
- * Newton's iterate itself. Fallback steps store no solution, and a step split into substeps
+ * guard's moves change the stored state by energy, not by residual (its last-resort rounding
+ * can be far): where it acted and the stored state is off, the step is taken again with the
+ * guard off, which stores Newton's iterate itself. Fallback steps store no solution, and a step split into substeps
  * solves each substep (not the whole dt): neither is checked here. */
 #define FZ_SOLVED (16.0L * (long double)EDMI_SOLVED)
 
@@ -467,56 +467,50 @@ static const edmi_system *fz_guard_off(const edmi_system *s0, edmi_real dt)
     return &fz_off;
 }
 
-static void fz_check_solved_at(const edmi_system *s0, const edmi_system *s1, const edmi_system *s,
-                               edmi_real dt, const edmi_step_result *res);
-
-static void fz_check_solved_off(const edmi_system *s0, edmi_real dt, const edmi_step_result *res)
+/* How far state s is from solving the step from s0 (tp_solved), against the bound: 1 if
+ * within it; 0 (with *worst, *body, *which, *st) if not. */
+static int fz_solved_within(const edmi_system *s0, const edmi_system *s, edmi_real dt,
+                            const edmi_step_result *res, long double *worst, int *body,
+                            int *which, edmi_status *st)
 {
-    const edmi_system *s = fz_guard_off(s0, dt);
-    if (s)
-        fz_check_solved_at(s0, s, s, dt, res);
-}
-
-static void fz_check_solved(const edmi_system *s0, const edmi_system *s1, edmi_real dt,
-                            const edmi_step_result *res)
-{
-    const edmi_system *s = s1;
-    if (res->stop == EDMI_STOP_FALLBACK || res->substeps != 1)
-        return; /* a fallback solves nothing; substeps each solve their own part of dt */
-    if (res->guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG | EDMI_GUARD_STOP |
-                             EDMI_GUARD_HOLD))
-        s = fz_guard_off(s0, dt);
-    if (s) /* else without the guard the step ends elsewhere (a range the guard avoided) */
-        fz_check_solved_at(s0, s1, s, dt, res);
-}
-
-/* The check on state s (the stored state s1, or the step taken again without the guard). */
-static void fz_check_solved_at(const edmi_system *s0, const edmi_system *s1, const edmi_system *s,
-                               edmi_real dt, const edmi_step_result *res)
-{
-    long double bound = FZ_SOLVED, worst;
-    int body, which;
-    edmi_status st;
-    worst = tp_solved(s0, s, dt, &fz_work2, &st, &body, &which);
-    if (st != EDMI_OK && res->guard_action != 0 && s == s1) {
-        fz_check_solved_off(s0, dt, res); /* the guard's rounding moved q off a domain's edge */
-        return;
-    }
-    if (st != EDMI_OK)
-        fz_fail("the stored state's residual cannot be evaluated", "edmi_step", st);
+    long double bound = FZ_SOLVED;
+    *worst = tp_solved(s0, s, dt, &fz_work2, st, body, which);
     if (res->stop == EDMI_STOP_TOL_R || res->stop == EDMI_STOP_TOL_A) {
         /* the early stops hold the bound with EDMI_SOLVED eps raised to the tolerance */
         long double tol = res->stop == EDMI_STOP_TOL_R ? s0->params.tol_r : s0->params.tol_a;
         if (16.0L * tol / (long double)EDMI_EPS > bound)
             bound = 16.0L * tol / (long double)EDMI_EPS;
     }
-    if (!(worst <= bound)) {
-        fprintf(stderr, "body %d: |R_%c| = %.3Lg eps x its magnitudes (bound %.0Lg), stop %d, "
-                        "%d iterations, residual %.3g, residual0 %.3g, guard_action %u\n",
-                body, which ? 'p' : 'q', worst, bound, (int)res->stop, res->iterations,
-                (double)res->residual, (double)res->residual0, res->guard_action);
-        fz_fail("EDMI_OK but the stored state does not solve the scheme", "edmi_step", EDMI_OK);
+    return *st == EDMI_OK && *worst <= bound;
+}
+
+/* The stored state s1 solves the step; where the guard acted on it and it does not (a move
+ * by energy, or a rounding that crossed a domain's edge), Newton's iterate, stored by the
+ * same step with the guard off, does. */
+static void fz_check_solved(const edmi_system *s0, const edmi_system *s1, edmi_real dt,
+                            const edmi_step_result *res)
+{
+    long double worst;
+    int body, which;
+    edmi_status st;
+    if (res->stop == EDMI_STOP_FALLBACK || res->substeps != 1)
+        return; /* a fallback solves nothing; substeps each solve their own part of dt */
+    if (fz_solved_within(s0, s1, dt, res, &worst, &body, &which, &st))
+        return;
+    if (res->guard_action != 0) {
+        const edmi_system *s = fz_guard_off(s0, dt);
+        if (!s) /* without the guard the step ends elsewhere (a range the guard avoided) */
+            return;
+        if (fz_solved_within(s0, s, dt, res, &worst, &body, &which, &st))
+            return;
     }
+    if (st != EDMI_OK)
+        fz_fail("the stored state's residual cannot be evaluated", "edmi_step", st);
+    fprintf(stderr, "body %d: |R_%c| = %.3Lg eps x its magnitudes, stop %d, %d iterations, "
+                    "residual %.3g, residual0 %.3g, guard_action %u\n",
+            body, which ? 'p' : 'q', worst, (int)res->stop, res->iterations,
+            (double)res->residual, (double)res->residual0, res->guard_action);
+    fz_fail("EDMI_OK but the stored state does not solve the scheme", "edmi_step", EDMI_OK);
 }
 
 static void fz_build(fz_in *in, edmi_system *sys, int *n_user)
