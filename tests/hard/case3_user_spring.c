@@ -5,34 +5,9 @@
  * against edmi_pot_harmonic(50, 1). Counts statuses, fallbacks, OK-but-unsolved steps, and
  * reports H at the end against H0 (a frozen body shows as H falling to V alone). */
 #include "hard_common.h"
+#include "passive.h"
 
-typedef struct { edmi_real k, r0; } us_ctx;
-
-static int us_fn(void *ctx, edmi_real r, edmi_pot_parts *out)
-{
-    const us_ctx *u = (const us_ctx *)ctx;
-    edmi_real x = r - u->r0;
-    int j;
-    out->c[0] = EDMI_R(0.5) * u->k * x * x;
-    out->c[1] = u->k * x;
-    out->c[2] = u->k;
-    out->c[3] = out->c[4] = 0;
-    for (j = 0; j < 5; j++) {
-        out->sp[j] = out->c[j];
-        out->e[j] = out->sm[j] = 0;
-    }
-    return 0;
-}
-
-static int us_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1)
-{
-    const us_ctx *u = (const us_ctx *)ctx;
-    *dd = EDMI_R(0.5) * u->k * ((d1 - u->r0) + (d0 - u->r0));
-    *dd_d1 = EDMI_R(0.5) * u->k;
-    return 0;
-}
-
-static us_ctx ctx = {50, 1};
+static tp_user_harmonic ctx = {50, 1}; /* tests/passive.c's user harmonic */
 static edmi_system sys;
 static edmi_workspace work;
 
@@ -40,7 +15,7 @@ static void run(edmi_scheme sch, int user, int with_dd, int fallback, long steps
 {
     edmi_params prm = edmi_default_params();
     edmi_real q[3] = {EDMI_R(1.3), 0, 0}, p[3] = {0, 2, 0}, x[3] = {0, 0, 0};
-    edmi_potential pot = user ? edmi_pot_user(us_fn, with_dd ? us_dd : 0, &ctx)
+    edmi_potential pot = user ? edmi_pot_user(tp_user_harmonic_fn, with_dd ? tp_user_harmonic_dd : 0, &ctx)
                               : edmi_pot_harmonic(50, 1);
     edmi_step_result res;
     edmi_invariants iv0, iv1;

@@ -14,7 +14,7 @@ mkdir -p "$out"
 for p in double float; do
     for c in case1_lj_wall case2_fallback_mass case3_user_spring case4_flip_port; do
         cc -std=c99 -O2 -Wall -Wextra -DEDMI_REAL=$p -DEDMI_MAX_MASS_GAP=1 -I. -Itests/hard \
-            tests/hard/$c.c edmi.c -lm -o "$out/${c}_$p"
+            -Itests tests/hard/$c.c tests/passive.c edmi.c -lm -o "$out/${c}_$p"
         "$out/${c}_$p" > "$out/${c}_$p.k0.txt"
         HC_SUBSTEPS=3 "$out/${c}_$p" > "$out/${c}_$p.k3.txt"
         HC_SUBSTEPS=3 HC_FB=1 "$out/${c}_$p" > "$out/${c}_$p.k3fb.txt"
