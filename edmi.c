@@ -3469,8 +3469,7 @@ static edmi_status edmi__end_valid(const edmi_link *lk, const edmi_real r1[3])
     edmi_status st;
     if (r1[0] == EDMI__ZERO && r1[1] == EDMI__ZERO && r1[2] == EDMI__ZERO)
         return edmi__is_linear(&lk->pot) ? EDMI_OK : EDMI_ERR_DIVERGED;
-    if (edmi__is_linear(&lk->pot))
-        return EDMI_OK;
+    /* a linear spring too: k/2 d^2 overflows first (a body pushed 1e164 far by a field) */
     st = edmi__pot_parts(&lk->pot, edmi__norm(r1), &pp);
     if (st == EDMI_OK && !(edmi__finite(pp.v[0]) && edmi__finite(pp.v[1])))
         st = EDMI_ERR_RANGE; /* the next step could not start there (edmi__prepare_links) */

@@ -1209,8 +1209,9 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         return -1.0L;
     for (a = 0; a < n; a++) {
         long double pn = tp_n3l(s0->body[a].p) + tp_n3l(tp_p1[a]);
-        tp_qm[a] = tp_n3l(s0->body[a].q) + tp_n3l(tp_q1[a]) + ldt / s0->body[a].m * pn;
-        tp_pm[a] = pn + ldt * tp_absl(tp_mass_row(s0, a)) * (s0->has_field ? tp_n3l(s0->g) : 0);
+        tp_qm[a] = tp_n3l(s0->body[a].q) + tp_n3l(tp_q1[a]) + ldt / s0->body[a].m * pn + tiny;
+        tp_pm[a] = pn + ldt * tp_absl(tp_mass_row(s0, a)) * (s0->has_field ? tp_n3l(s0->g) : 0) +
+                   tiny;
     }
 #if EDMI_MAX_MASS_GAP > 0
     for (a = 0; a < n; a++)
@@ -1227,7 +1228,7 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         const edmi_link *lk = &s0->link[j];
         const edmi_real *xb1;
         edmi_real r0[3], r1[3];
-        long double f = ldt * tp_n3l(s->link_force[j]), k = 0.0L, rm[3], x;
+        long double f = 4.0L * ldt * tp_n3l(s->link_force[j]), k = 0.0L, rm[3], x;
         tp_pm[lk->a] += f;
         if (lk->b != EDMI_ANCHOR)
             tp_pm[lk->b] += f;
@@ -1255,8 +1256,8 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         tp_ends(s0, s, j, r0, r1, &xb1);
         for (i = 0; i < 3; i++)
             rm[i] = 0.5L * ((long double)r0[i] + (long double)r1[i]);
-        x = 3.0L * k * (tp_sqrtl(rm[0] * rm[0] + rm[1] * rm[1] + rm[2] * rm[2]) + tp_qm[lk->a] +
-                        (lk->b == EDMI_ANCHOR ? tp_n3l(xb1) : tp_qm[lk->b]));
+        x = 12.0L * k * (tp_sqrtl(rm[0] * rm[0] + rm[1] * rm[1] + rm[2] * rm[2]) + tp_qm[lk->a] +
+                         (lk->b == EDMI_ANCHOR ? tp_n3l(xb1) : tp_qm[lk->b]));
         tp_pm[lk->a] += x;
         if (lk->b != EDMI_ANCHOR)
             tp_pm[lk->b] += x;
@@ -1267,7 +1268,7 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         edmi_real r0[3], r1[3];
         long double x;
         tp_ends(s0, s, s0->damper[j].link, r0, r1, &xb1);
-        x = (long double)s0->damper[j].c *
+        x = 4.0L * (long double)s0->damper[j].c *
             (tp_n3l(r0) + tp_n3l(r1) + tp_qm[lk->a] +
              (lk->b == EDMI_ANCHOR ? tp_n3l(xb1) : tp_qm[lk->b]));
         tp_pm[lk->a] += x;
@@ -1298,8 +1299,8 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
                 tp_pm[lk->b] += x;
         }
     for (a = 0; a < n; a++) {
-        long double xq = tp_n3l(tp_rq[a]) / (eps * (tp_qm[a] + tiny));
-        long double xp = tp_n3l(tp_rp[a]) / (eps * (tp_pm[a] + tiny));
+        long double xq = tp_n3l(tp_rq[a]) / (eps * tp_qm[a]);
+        long double xp = tp_n3l(tp_rp[a]) / (eps * tp_pm[a]);
         if (!(xq <= worst)) {
             worst = xq;
             *body = a;

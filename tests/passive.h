@@ -42,17 +42,19 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
 long double tp_h(const edmi_system *s);
 
 /* How far the stored state s is from solving the scheme's equations for the step dt from s0
- * (edmi_residual() at s), in units of the magnitudes of the residual's terms, evaluated here
- * in long double from public data, per body a:
- *   Q_a = |q_n| + |q1| + dt/m (|p_n| + |p1|) (+ the coupled masses' |m_ab|/m_a (|q_n,b| + |q1_b|)),
- *   P_a = |p_n| + |p1| + dt |F_a| + dt |M 1|_a |g| + dt sum over a's links |link_force|
- *         + per link 3 k (|r_m| + Q_a + Q_b), k the largest entry of that link's own tangent
- *           (edmi_tangent() of a copy holding it alone), Q_b = |x_n+1| for an anchor
- *         + per damper c (|r_n| + |r1| + Q_a + Q_b) + the LG quotient's |V| / |d1 - d0|;
+ * (edmi_residual() at s), in units of the magnitudes of the residual's terms as edmi.h states
+ * them for EDMI_SOLVED, evaluated here in long double from public data, per body a:
+ *   Q_a = |q_n| + |q1| + dt/m (|p_n| + |p1|) (+ the coupled masses' |m_ab|/m_a (|q_n,b| + |q1_b|))
+ *         + 16 x the smallest normal (the subnormal grid),
+ *   P_a = |p_n| + |p1| + dt |F_a| + dt |M 1|_a |g| + 16 x the smallest normal
+ *         + per link 4 (dt |link_force| + 3 k (|r_m| + Q_a + Q_b)), k the largest entry of that
+ *           link's own tangent (edmi_tangent() of a copy holding it alone), Q_b = |x_n+1| for
+ *           an anchor
+ *         + per damper 4 c (|r_n| + |r1| + Q_a + Q_b) + the LG quotient's dt |V| / |d1 - d0|;
  * returns max over bodies of |R_q,a| / (eps Q_a) and |R_p,a| / (eps P_a), *body and *which
  * (0: R_q, 1: R_p) where; -1 with *status the error if the residual cannot be evaluated.
- * edmi.h's bound (EDMI_SOLVED) counts each link's tangent as 12 k (...): a solved step is at
- * most 16 EDMI_SOLVED here; a step Newton never solved is off by 1e10 to 1e30. */
+ * A solved step is at most EDMI_SOLVED here, up to the rounding of the magnitudes; a step
+ * Newton never solved is off by 1e10 to 1e30. */
 long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
                       edmi_workspace *work, edmi_status *status, int *body, int *which);
 
