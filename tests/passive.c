@@ -1281,19 +1281,26 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
             const edmi_real *xb1;
             edmi_real r0[3], r1[3];
             edmi_pot_parts v0, v1;
-            long double d0, d1, x;
+            long double d0, d1, gap, vv = LDBL_MAX, x = LDBL_MAX;
+            tp_q w0, w1, m;
             if ((lk->pot.kind != EDMI_POT_USER || lk->pot.dd != 0) &&
                 s0->params.lg_form == EDMI_LG_CLOSED)
                 continue;
             tp_ends(s0, s, j, r0, r1, &xb1);
             d0 = tp_n3l(r0);
             d1 = tp_n3l(r1);
-            if (!(tp_absl(d1 - d0) > 0.0L) ||
-                edmi_pot_eval(&lk->pot, (edmi_real)d0, &v0) != EDMI_OK ||
-                edmi_pot_eval(&lk->pot, (edmi_real)d1, &v1) != EDMI_OK)
-                continue;
-            x = ldt * (tp_absl((long double)v0.v[0]) + tp_absl((long double)v1.v[0])) /
-                tp_absl(d1 - d0);
+            /* the library forms d1 - d0 from lengths rounded in its precision */
+            gap = tp_absl(d1 - d0) - 4.0L * eps * (d0 + d1);
+            if (lk->pot.kind != EDMI_POT_USER) { /* V here: its parts can overflow where V not */
+                if (tp_pot(&lk->pot, (tp_q)d0 * (tp_q)d0, (tp_q)d0, &w0, &m) &&
+                    tp_pot(&lk->pot, (tp_q)d1 * (tp_q)d1, (tp_q)d1, &w1, &m))
+                    vv = (long double)(tp_absq(w0) + tp_absq(w1));
+            } else if (edmi_pot_eval(&lk->pot, (edmi_real)d0, &v0) == EDMI_OK &&
+                       edmi_pot_eval(&lk->pot, (edmi_real)d1, &v1) == EDMI_OK) {
+                vv = tp_absl((long double)v0.v[0]) + tp_absl((long double)v1.v[0]);
+            }
+            if (gap > 0.0L && vv < LDBL_MAX) /* else unbounded: nothing to judge by */
+                x = ldt * vv / gap;
             tp_pm[lk->a] += x;
             if (lk->b != EDMI_ANCHOR)
                 tp_pm[lk->b] += x;

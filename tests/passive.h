@@ -50,7 +50,9 @@ long double tp_h(const edmi_system *s);
  *         + per link 4 (dt |link_force| + 3 k (|r_m| + Q_a + Q_b)), k the largest entry of that
  *           link's own tangent (edmi_tangent() of a copy holding it alone), Q_b = |x_n+1| for
  *           an anchor
- *         + per damper 4 c (|r_n| + |r1| + Q_a + Q_b) + the LG quotient's dt |V| / |d1 - d0|;
+ *         + per damper 4 c (|r_n| + |r1| + Q_a + Q_b) + the LG quotient's dt |V| / |d1 - d0|
+ *           (V from this file's own formulas, |d1 - d0| less the rounding of the lengths in
+ *           the library's precision, 4 eps (d0 + d1): unbounded where that leaves nothing);
  * returns max over bodies of |R_q,a| / (eps Q_a) and |R_p,a| / (eps P_a), *body and *which
  * (0: R_q, 1: R_p) where; -1 with *status the error if the residual cannot be evaluated.
  * A solved step is at most EDMI_SOLVED here, up to the rounding of the magnitudes; a step
