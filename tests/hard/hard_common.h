@@ -10,8 +10,8 @@
  *           |q1_j|) with K = dR_p/dq1 from edmi_tangent() at the stored state: the residual
  *           that rounding q_n+1 and p_n+1 to the working grid alone can leave (stiff links,
  *           cancelling terms); R_q against EDMI_EPS (|q_n| + |q_n+1| + dt (|p_n|+|p_n+1|)/m)
- *   doc   = the bound edmi.h states (EDMI_SOLVED), with magnitudes computed here as
- *           tests/passive.c's tp_solved does: a solved step is within 2 EDMI_SOLVED
+ *   doc   = the bound edmi.h states (EDMI_SOLVED), by tests/passive.c's tp_solved (the
+ *           fuzzer's check): a solved step is within 2 EDMI_SOLVED
  * Steps split into substeps (res.substeps > 1) and fallbacks solve no single step of dt and
  * are not checked. HC_SUBSTEPS=k and HC_FB=1 in the environment set params.substep_levels and
  * params.fallback on every step (tests/hard/run.sh).
@@ -26,6 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "edmi.h"
+#include "passive.h"
 
 #if defined(__GNUC__)
 #define HC_UNUSED __attribute__((unused))
@@ -107,43 +108,13 @@ static edmi_status hc_check(const edmi_system *sys, edmi_workspace *w, edmi_real
             if (!(x <= f)) f = x;
         }
         hc_last_flr = f;
-        /* the bound edmi.h documents (EDMI_SOLVED), computed here as tests/fuzz/fuzz_api.c
-         * does: Q_a = |q_n| + |q1| + dt/m (|p_n| + |p1|), P_a = |p_n| + |p1| + dt |F| +
-         * dt sum |link_force| + sum_j |K_ij| Q_j (+ |x| of anchors times the row), ratio
-         * max |R| / (eps M) over bodies; <= 2 EDMI_SOLVED is within the bound */
+        /* the bound edmi.h documents (EDMI_SOLVED), by tests/passive.c's tp_solved (the
+         * fuzzer's check): max |R| / (eps M) over bodies; <= 2 EDMI_SOLVED is within it */
         {
-            double Q[EDMI_MAX_BODIES], P[EDMI_MAX_BODIES], g = 0.0;
-            for (i = 0; i < n; i++) {
-                double pn = hc_n3(hc_before.body[i].p) + hc_n3(hc_p1[i]);
-                Q[i] = hc_n3(hc_before.body[i].q) + hc_n3(hc_q1[i]) +
-                       (double)dt * pn / (double)hc_before.body[i].m;
-                P[i] = pn;
-            }
-            for (i = 0; i < hc_before.n_forced; i++)
-                P[hc_before.forced[i]] += (double)dt * hc_n3(hc_before.force[hc_before.forced[i]]);
-            for (j = 0; j < sys->n_links; j++) {
-                const edmi_link *lk = &sys->link[j];
-                double f = (double)dt * hc_n3(sys->link_force[j]);
-                P[lk->a] += f;
-                if (lk->b != EDMI_ANCHOR) P[lk->b] += f;
-            }
-            for (r = 0; r < N; r++) {
-                double row = 0.0;
-                for (j = 0; j < N; j++)
-                    row += fabs((double)hc_k[r * N + j]);
-                for (j = 0; j < N; j++)
-                    P[r / 3] += fabs((double)hc_k[r * N + j]) * Q[j / 3];
-                for (j = 0; j < sys->n_links; j++) /* anchors' positions (grid of r) */
-                    if (sys->link[j].b == EDMI_ANCHOR && sys->link[j].a == r / 3)
-                        P[r / 3] += row * hc_n3(sys->link[j].anchor);
-            }
-            for (i = 0; i < n; i++) {
-                double x = hc_n3(hc_rq[i]) / ((double)EDMI_EPS * Q[i]);
-                if (!(x <= g)) g = x;
-                x = hc_n3(hc_rp[i]) / ((double)EDMI_EPS * P[i]);
-                if (!(x <= g)) g = x;
-            }
-            hc_last_doc = g;
+            edmi_status ts;
+            int tb, tw;
+            long double g = tp_solved(&hc_before, sys, dt, w, &ts, &tb, &tw);
+            hc_last_doc = ts == EDMI_OK ? (double)g : -1.0;
         }
     }
     return EDMI_OK;
