@@ -3920,7 +3920,7 @@ void edmi_debug_accept(edmi_real x); /* measurement hook: the largest |R| / nois
  * by their largest components, and |R| <= 2 max |R_i|: where it holds the full test holds
  * too. Newton's floor is a few eps of these, so a converged step rarely needs the full sum
  * (half of a float spring step's Newton cost otherwise). */
-static EDMI__INLINE edmi_real edmi__max_abs3(const edmi_real v[3])
+static edmi_real edmi__max_abs3(const edmi_real v[3])
 {
     return edmi__max(edmi__abs(v[0]), edmi__max(edmi__abs(v[1]), edmi__abs(v[2])));
 }
