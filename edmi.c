@@ -1470,9 +1470,11 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
             return st;
     } else {
         if (!reuse) {
+            work->kept = 0;
             work->kb = edmi__bandwidth(sys);
             edmi__assemble(sys, work, dt, n, work->kb);
             st = edmi__lu_band(work->mat, work->row, n, work->kb, work->piv, &work->upper);
+            work->fresh = st == EDMI_OK;
             if (st != EDMI_OK)
                 return st;
         }
@@ -3966,6 +3968,18 @@ static int edmi__solved(const edmi_system *sys, edmi_workspace *work, edmi_real 
     return 1;
 }
 
+/* The paper's predictor q_n+1,(0) = q_n, p_n+1,(0) = p_n, evaluated. */
+static edmi_status edmi__predictor(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                   edmi_real *r, edmi_step_result *res)
+{
+    int a;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(sys->body[a].q, work->q1[a]);
+        edmi__copy3(sys->body[a].p, work->p1[a]);
+    }
+    return edmi__evaluate(sys, work, dt, r, res);
+}
+
 /* The explicit predictor (edmi__newton): from the residual at (q_n, p_n), R_p = the impulse
  * of the forces over the step with the sign of R_p, p = p_n - R_p, q = q_n + dt/(2m)(p_n + p);
  * evaluated, with *r its scaled residual. */
@@ -4026,7 +4040,7 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
     edmi_real r = res->residual0, rprev, moved = EDMI__ONE, c, cprev = EDMI__ZERO;
     edmi_real cprev2 = EDMI_REAL_MAX;
     edmi_status st;
-    int l, halvings_before, chord = 0, contracted = 0, chord_ok = 1;
+    int l, halvings_before, switches_before, chord = 0, contracted = 0, chord_ok = 1;
     if (!(r > EDMI__ZERO))
         return EDMI_OK;
     for (l = 1;; l++) {
@@ -4042,10 +4056,12 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
          * correction that did not contract by 8 or raised the residual ends the chord for the
          * step (alternating, PM on the solar system at dt = 18.25 d took up to 37 corrections
          * where Newton alone takes 15, and failed at l_max = 20) */
-        chord = chord_ok && l >= 2 && sys->n_bodies > 1 && moved == EDMI__ONE && contracted &&
-                r <= EDMI__SQRT_EPS * res->residual0 &&
+        chord = chord_ok && sys->n_bodies > 1 && moved == EDMI__ONE &&
+                (l == 1 ? work->kept
+                        : contracted && (work->kept || r <= EDMI__SQRT_EPS * res->residual0)) &&
                 !(prm->tol_r > EDMI__ZERO) && !(prm->tol_a > EDMI__ZERO) &&
                 edmi__chord_pays(sys, work);
+        switches_before = res->lg_switches;
         st = edmi__newton_update(sys, work, dt, chord);
         if (st == EDMI_ERR_SINGULAR && l == 1) {
             /* Singular at the paper's predictor (q_n, p_n): a compressed link at dt beyond
@@ -4063,6 +4079,18 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         rprev = r;
         halvings_before = res->halvings;
         st = edmi__line_search(sys, work, dt, &r, res, &moved);
+        if (l == 1 && chord && !(st == EDMI_OK && r <= EDMI__HALF * rprev)) {
+            /* the last step's factors did not contract by the chord's rate from the
+             * predictor: back to it, and the correction again with the current matrix */
+            res->halvings = halvings_before;
+            res->lg_switches = switches_before;
+            st = edmi__predictor(sys, work, dt, &r, res);
+            if (st != EDMI_OK)
+                return st;
+            work->kept = 0;
+            l = 0;
+            continue;
+        }
         if (st != EDMI_OK)
             return st;
         res->iterations = l;
@@ -4124,14 +4152,9 @@ static edmi_status edmi__attempt(const edmi_system *sys, edmi_workspace *work, e
 {
     edmi_real r;
     edmi_status st;
-    int a;
     edmi__clear_result(res);
     res->tank = sys->tank; /* the guard sets the tank after the step */
-    for (a = 0; a < sys->n_bodies; a++) {
-        edmi__copy3(sys->body[a].q, work->q1[a]);
-        edmi__copy3(sys->body[a].p, work->p1[a]);
-    }
-    st = edmi__evaluate(sys, work, dt, &r, res);
+    st = edmi__predictor(sys, work, dt, &r, res);
     if (st != EDMI_OK)
         return st;
     st = edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
@@ -4378,12 +4401,26 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     st = edmi__prepare_links(sys, work); /* the start state's links: refused as input */
     if (st != EDMI_OK)
         return st;
+    /* the factors this system's last step kept here (work->kept_sys is read only where this
+     * system wrote it); nothing a later call trusts unless this one stores the step */
+    work->kept = sys->kept_work == (const void *)work && work->kept_sys == (const void *)sys &&
+                 sys->kept_dt == dt && sys->kept_bodies == sys->n_bodies &&
+                 sys->kept_links == sys->n_links;
+    work->fresh = 0;
+    work->kept_sys = 0;
     st = edmi__attempt(sys, work, dt, res);
     if (st == EDMI_OK) {
         edmi__commit(sys, work, res->tank);
         for (i = 0; i < sys->n_links; i++)
             edmi__copy3(work->lw[i].f, sys->link_force[i]);
         res->substeps = 1;
+        if (work->kept || work->fresh) {
+            work->kept_sys = sys;
+            sys->kept_work = work;
+            sys->kept_dt = dt;
+            sys->kept_bodies = sys->n_bodies;
+            sys->kept_links = sys->n_links;
+        }
     } else {
         if (!edmi__is_step_failure(st) ||
             (sys->params.substep_levels == 0 && !sys->params.fallback))
@@ -4459,6 +4496,7 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
                 return EDMI_ERR_RANGE;
     }
     n = 3 * sys->n_bodies;
+    work->kept_sys = 0; /* work->row is overwritten */
     for (i = 0; i < n * n; i++)
         kmat[i] = EDMI__ZERO;
     for (i = 0; i < n; i++) /* kmat is dense, row-major */

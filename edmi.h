@@ -400,6 +400,12 @@ typedef struct edmi_system {
      *  algorithmic force plus its dampers [M L/T^2]. The work the anchors did on the system
      *  is -sum link_force . (x_n+1 - x_n), reported as edmi_step_result.work_anchor. */
     edmi_real link_force[EDMI_MAX_LINKS][3];
+    /* Where the factors of the last step's Newton matrix are kept: the workspace, that step's
+     * dt and sizes (edmi_step). The next step with the same workspace and dt starts Newton
+     * from them. */
+    const void *kept_work;
+    edmi_real kept_dt;
+    int kept_bodies, kept_links;
 } edmi_system;
 
 /** Per-link scratch: the start-of-step quantities a link's force needs, computed once per
@@ -452,8 +458,12 @@ typedef struct edmi_scene {
     const edmi_mass_coupling *mass_couplings; /*!< each pair at most once (may be NULL when 0) */
 } edmi_scene;
 
-/** Newton scratch space. Caller-owned, contents meaningless between calls; one workspace may
- *  serve several systems stepped one after another. */
+/** Newton scratch space. Caller-owned; one workspace may serve several systems stepped one
+ *  after another. Between calls it means nothing but the factors of a system's last Newton
+ *  matrix, which that system's next edmi_step() with the same dt uses for its first
+ *  corrections (the system records where they are): the same calls give the same results
+ *  on every target, and a step's last bits can depend on whether the workspace served
+ *  another system since. */
 typedef struct edmi_workspace {
     edmi_real q1[EDMI_MAX_BODIES][3]; /* iterate q_{n+1,(l)} */
     edmi_real p1[EDMI_MAX_BODIES][3]; /* iterate p_{n+1,(l)} */
@@ -475,6 +485,11 @@ typedef struct edmi_workspace {
     int n_pair;
     int piv[3 * EDMI_MAX_BODIES];      /* the factored Newton matrix's pivot rows */
     int kb, upper;                     /* its lower and upper bandwidths */
+    /* The factors kept for a system's next step (edmi_step): whose they are (set by the
+     * step that stored them, cleared by any call that writes the matrix), whether this call
+     * found them kept, and whether it factored. */
+    const void *kept_sys;
+    int kept, fresh;
 } edmi_workspace;
 
 /** Why Newton stopped (a successful step). Every stop but EDMI_STOP_FALLBACK leaves an
