@@ -1434,6 +1434,24 @@ static edmi_status edmi__solve_two_body(const edmi_system *sys, edmi_workspace *
     return EDMI_OK;
 }
 
+/* Whether the kept factors' bookkeeping fits this system (edmi_step): its bandwidth, U's
+ * bandwidth, and every pivot row within the band; the row offsets are set again. A
+ * workspace that lives on a stack between calls may keep the record and lose the rest: its
+ * numbers then only cost a correction (edmi__newton goes back to the predictor), and no index
+ * they hold is used. */
+static int edmi__kept_sane(const edmi_system *sys, edmi_workspace *work)
+{
+    int n = 3 * sys->n_bodies, k;
+    if (work->kb != edmi__bandwidth(sys) ||
+        (work->upper != work->kb && work->upper != 2 * work->kb))
+        return 0;
+    for (k = 0; k < n; k++)
+        if (work->piv[k] < k || work->piv[k] > k + work->kb || work->piv[k] >= n)
+            return 0;
+    edmi__band_rows(work->row, n, work->kb);
+    return 1;
+}
+
 /* One Newton correction: solve for dq (into work->rhs), recover dp = 2m/dt (R_q + dq). With
  * `reuse` (several bodies, edmi__newton) the factors of the last correction's matrix are
  * used again (a chord correction) instead of assembling and factoring the current one. */
@@ -3978,16 +3996,18 @@ static int edmi__solved(const edmi_system *sys, edmi_workspace *work, edmi_real 
     return 1;
 }
 
-/* The paper's predictor q_n+1,(0) = q_n, p_n+1,(0) = p_n, evaluated. */
+/* The paper's predictor q_n+1,(0) = q_n, p_n+1,(0) = p_n, and its residual. */
 static edmi_status edmi__predictor(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                                   edmi_real *r, edmi_step_result *res)
+                                   edmi_step_result *res)
 {
     int a;
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(sys->body[a].q, work->q1[a]);
         edmi__copy3(sys->body[a].p, work->p1[a]);
     }
-    return edmi__evaluate(sys, work, dt, r, res);
+    return edmi__residual(sys, work, dt, (const edmi_real (*)[3])work->q1,
+                          (const edmi_real (*)[3])work->p1, work->rq, work->rp,
+                          &res->lg_switches);
 }
 
 /* The explicit predictor (edmi__newton): from the residual at (q_n, p_n), R_p = the impulse
@@ -4088,15 +4108,22 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         c = edmi__scaled_norm(sys, work, work->rhs, (const edmi_real (*)[3])work->dp);
         rprev = r;
         halvings_before = res->halvings;
-        st = edmi__line_search(sys, work, dt, &r, res, &moved);
+        if (l == 1 && chord) { /* the last step's factors, taken once, never halved */
+            edmi__move(sys, work, EDMI__ONE);
+            st = edmi__evaluate(sys, work, dt, &r, res);
+            moved = EDMI__ONE;
+        } else {
+            st = edmi__line_search(sys, work, dt, &r, res, &moved);
+        }
         if (l == 1 && chord && !(st == EDMI_OK && r <= EDMI__HALF * rprev)) {
-            /* the last step's factors did not contract by the chord's rate from the
-             * predictor: back to it, and the correction again with the current matrix */
-            res->halvings = halvings_before;
+            /* the last step's factors did not halve the predictor's residual (or left the
+             * domain): back to the predictor, and the correction with its own matrix. At
+             * most one linear solve and two evaluations more than a step without them. */
             res->lg_switches = switches_before;
-            st = edmi__predictor(sys, work, dt, &r, res);
+            st = edmi__predictor(sys, work, dt, res);
             if (st != EDMI_OK)
                 return st;
+            r = edmi__scaled_residual(sys, work);
             work->kept = 0;
             l = 0;
             continue;
@@ -4164,17 +4191,16 @@ static int edmi__is_step_failure(edmi_status st)
 static edmi_status edmi__attempt(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                  edmi_step_result *res)
 {
-    edmi_real r;
     edmi_status st;
     edmi__clear_result(res);
     res->tank = sys->tank; /* the guard sets the tank after the step */
-    st = edmi__predictor(sys, work, dt, &r, res);
+    st = edmi__predictor(sys, work, dt, res);
     if (st != EDMI_OK)
         return st;
     st = edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
     if (st != EDMI_OK)
         return st;
-    res->residual0 = edmi__scaled_residual(sys, work); /* so measure again with them */
+    res->residual0 = edmi__scaled_residual(sys, work); /* then is measured with them */
     res->residual = res->residual0;
     if (!edmi__finite(res->residual0)) /* beyond the precision's range: nothing to solve */
         return EDMI_ERR_RANGE;
@@ -4325,6 +4351,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
             edmi__copy3(work->lw[j].f, sys->link_force[j]);
         return EDMI_OK;
     }
+    work->kept = 0; /* the kept factors are of dt's matrix: substeps factor their own */
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(sys->body[a].q, work->q0[a]);
         edmi__copy3(sys->body[a].p, work->p0[a]);
@@ -4419,7 +4446,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
      * system wrote it); nothing a later call trusts unless this one stores the step */
     work->kept = sys->kept_work == (const void *)work && work->kept_sys == (const void *)sys &&
                  sys->kept_dt == dt && sys->kept_bodies == sys->n_bodies &&
-                 sys->kept_links == sys->n_links;
+                 sys->kept_links == sys->n_links && edmi__kept_sane(sys, work);
     work->fresh = 0;
     work->kept_sys = 0;
     st = edmi__attempt(sys, work, dt, res);

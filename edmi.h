@@ -247,7 +247,9 @@ typedef struct edmi_params {
     edmi_real tol_r;     /*!< optional early stop: scaled residual <= tol_r * scaled residual
                               of the predictor; 0 (default): off, Newton runs to its floor */
     edmi_real tol_a;     /*!< optional early stop: scaled residual <= tol_a; 0 (default): off */
-    int l_max;           /*!< at most this many Newton corrections per step (>= 1) */
+    int l_max;           /*!< at most this many Newton corrections per step (>= 1), plus
+                              one chord correction from the factors the system's last step
+                              kept (edmi_workspace) where it does not halve the residual */
     int energy_balance;  /*!< non-zero: edmi_step reports dh and diss_scheme in double-word
                               arithmetic on every step, guard on or off (costs a double-word
                               evaluation of H per step); 0 by default */

@@ -12,6 +12,7 @@
 #   make bench          examples/bench_solver.c with 128 bodies and 8192 links: cost vs links
 #                       (wall time), then examples/bench_cost.sh: callgrind instructions per
 #                       step, per correction and per link, and against velocity Verlet
+#   make bench-profile  where a step's instructions go: phases and functions, callgrind
 #   make guard-cost     the passivity guard's host cost, callgrind (examples/guard_cost.c)
 #   make orbits         does the guard steer conservative orbits? examples/orbits.c in both
 #                       precisions: PM with and without its guard, MP and LG on circular LJ
@@ -49,7 +50,7 @@ SIM_OPT ?= -O3
 # apart: every object of theirs is built with the same capacity.
 SIM_CAP := -DEDMI_MAX_MASS_GAP=2
 
-.PHONY: sim test-scene run-examples plots bench guard-cost orbits haptic study
+.PHONY: sim test-scene run-examples plots bench bench-profile guard-cost orbits haptic study
 
 all: $(SIM_BIN) $(SIM_TEST)
 sim: $(SIM_BIN) $(SIM_TEST)
@@ -125,6 +126,10 @@ $(BC_DIR)/bench_cost-%: examples/bench_cost.c port/bench_scenes.h edmi.c edmi.h
 bench: $(SIM_BENCH)/bench_solver $(BC_DIR)/bench_cost-float $(BC_DIR)/bench_cost-double
 	$(SIM_BENCH)/bench_solver
 	@sh examples/bench_cost.sh $(BC_DIR)
+
+# Where a step's instructions go: phases and functions per step (examples/bench_profile.sh).
+bench-profile: $(BC_DIR)/bench_cost-float $(BC_DIR)/bench_cost-double
+	@sh examples/bench_profile.sh $(BC_DIR)
 
 # The passivity guard's cost on the host: callgrind instructions per step (examples/guard_cost.c).
 GC_DIR := $(BUILD)/guard-cost

@@ -141,6 +141,101 @@ static void solver_state_writes(void)
     CHECK(memcmp(&before, &sys_b, sizeof sys_b) == 0);
 }
 
+/* Factors kept from a system's last step (edmi.h, edmi_workspace). Ten unit masses, all 45
+ * pairs V = -0.01/r (port/bench_scenes.h's all-pairs scene, dt = 0.05), PM: every step of
+ * the system that keeps its factors in work_solver is checked against the same step from
+ * the same state by a copy with its own workspace, which cannot reuse anything (its record
+ * names another workspace), so that it solves from its own Newton matrix: the two solve the
+ * same equations, so they may differ by their floors, not by more than 1e3 eps of the state's
+ * scale (as the numbering test). Then the kept factors made stale or garbage: positions
+ * written between steps (moved by 5 % and the momenta reversed), and the factors themselves
+ * overwritten with a byte pattern as a stack-placed workspace might leave them; each step
+ * must still agree with the fresh one. */
+#define SOLVER_KEPT_N 10
+
+static edmi_system sys_kept_copy;
+static edmi_workspace work_fresh;
+
+static void solver_kept_build(edmi_system *s)
+{
+    edmi_params prm = edmi_default_params();
+    edmi_potential g = edmi_pot_inverse(EDMI_R(0.01));
+    int a, b;
+    prm.scheme = EDMI_PM;
+    CHECK_STATUS(edmi_init(s, &prm), EDMI_OK);
+    for (a = 0; a < SOLVER_KEPT_N; a++) {
+        edmi_real q[3], p[3];
+        q[0] = EDMI_R(10.0) * (edmi_real)(a % 7) + EDMI_R(0.1) * (edmi_real)a;
+        q[1] = EDMI_R(10.0) * (edmi_real)(a / 7) + EDMI_R(0.05) * (edmi_real)(a % 3);
+        q[2] = EDMI_R(0.2) * (edmi_real)(a % 5);
+        p[0] = EDMI_R(0.01) * ((edmi_real)(a % 4) - EDMI_R(1.5));
+        p[1] = EDMI_R(0.01) * ((edmi_real)(a % 3) - EDMI_R(1.0));
+        p[2] = EDMI_R(0.0);
+        CHECK_STATUS(edmi_add_body(s, EDMI_R(1.0), q, p, NULL), EDMI_OK);
+    }
+    for (a = 0; a < SOLVER_KEPT_N; a++)
+        for (b = a + 1; b < SOLVER_KEPT_N; b++)
+            CHECK_STATUS(edmi_add_pair(s, a, b, &g, NULL), EDMI_OK);
+}
+
+/* One step of sys_a with work_solver against its copy with work_fresh; the largest
+ * difference relative to the scales (positions ~ 60, momenta ~ 0.02) into *worst. */
+static int solver_kept_step(edmi_real *worst, int *its_kept, int *its_fresh)
+{
+    edmi_step_result rk, rf;
+    int i, c;
+    sys_kept_copy = sys_a;
+    if (!CHECK_STATUS(edmi_step(&sys_kept_copy, &work_fresh, EDMI_R(0.05), &rf), EDMI_OK) ||
+        !CHECK_STATUS(edmi_step(&sys_a, &work_solver, EDMI_R(0.05), &rk), EDMI_OK))
+        return 0;
+    *its_kept += rk.iterations;
+    *its_fresh += rf.iterations;
+    for (i = 0; i < SOLVER_KEPT_N; i++)
+        for (c = 0; c < 3; c++) {
+            edmi_real dq = solver_abs(sys_a.body[i].q[c] - sys_kept_copy.body[i].q[c]) /
+                           EDMI_R(60.0);
+            edmi_real dp = solver_abs(sys_a.body[i].p[c] - sys_kept_copy.body[i].p[c]) /
+                           EDMI_R(0.02);
+            *worst = dq > *worst ? dq : *worst;
+            *worst = dp > *worst ? dp : *worst;
+        }
+    return 1;
+}
+
+static void solver_kept(void)
+{
+    static const edmi_real tol_rel = EDMI_R(1000.0) * EDMI_EPS;
+    edmi_real worst = EDMI_R(0.0), worst_stale = EDMI_R(0.0);
+    int k, i, c, its_kept = 0, its_fresh = 0, its_s = 0, its_sf = 0;
+    solver_kept_build(&sys_a);
+    for (k = 0; k < 400; k++)
+        if (!solver_kept_step(&worst, &its_kept, &its_fresh))
+            return;
+    /* the record says where the factors are: the system's own workspace, not the copy's */
+    CHECK(sys_a.kept_work == (const void *)&work_solver);
+    CHECK(sys_kept_copy.kept_work == (const void *)&work_fresh);
+    th_note_real("kept factors: largest scaled difference from a fresh solve, 400 steps", worst);
+    th_note_int("kept factors: Newton corrections in 400 steps (kept)", its_kept);
+    th_note_int("kept factors: Newton corrections in 400 steps (fresh)", its_fresh);
+    CHECK(worst <= tol_rel);
+    for (k = 0; k < 20; k++) { /* stale: the state written between steps */
+        if (k % 2 == 0)
+            for (i = 0; i < SOLVER_KEPT_N; i++)
+                for (c = 0; c < 3; c++) {
+                    sys_a.body[i].q[c] *= EDMI_R(1.05);
+                    sys_a.body[i].p[c] = -sys_a.body[i].p[c];
+                }
+        else
+            memset(work_solver.mat, 0x5a, sizeof work_solver.mat); /* garbage factors */
+        if (!solver_kept_step(&worst_stale, &its_s, &its_sf))
+            return;
+    }
+    th_note_real("kept factors, stale or garbage: largest scaled difference", worst_stale);
+    th_note_int("kept factors, stale or garbage: corrections in 20 steps (kept)", its_s);
+    th_note_int("kept factors, stale or garbage: corrections in 20 steps (fresh)", its_sf);
+    CHECK(worst_stale <= tol_rel);
+}
+
 void suite_solver(void)
 {
     th_suite("solver: banded elimination, numbering, reproducibility");
@@ -151,4 +246,5 @@ void suite_solver(void)
     solver_numbering(EDMI_PT);
     solver_bitwise();
     solver_state_writes();
+    solver_kept();
 }
