@@ -64,31 +64,40 @@
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
 #define TGT_G ((unsigned long)EDMI_MAX_MASS_GAP)
 #define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G + TGT_R)
-#define TGT_SYSTEM TGT_UP(TGT_S6, TGT_RP)
+/* the record of kept factors: a pointer, dt, two ints */
+#define TGT_S7 (TGT_UP(TGT_UP(TGT_S6, TGT_P) + TGT_P, TGT_R) + TGT_R + 8u)
+#define TGT_SYSTEM TGT_UP(TGT_S7, TGT_RP)
 #define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
 #define TGT_LINK_WS TGT_UP(56u * TGT_R + 12u, TGT_R)
-#define TGT_WORKSPACE                                                                         \
-    TGT_UP((TGT_M + 32u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                  \
-               4u * (6u * TGT_N + TGT_L + 3u),                                                \
-           TGT_R)
+#define TGT_WS0                                                                               \
+    ((TGT_M + 32u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                         \
+     4u * (6u * TGT_N + TGT_L + 3u))
+/* then whose kept factors they are (a pointer) and two ints */
+#define TGT_WORKSPACE TGT_UP(TGT_UP(TGT_WS0, TGT_P) + TGT_P + 8u, TGT_RP)
 
 /* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
  * K + R M + b N + l L + d D + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
- *   float:  K = 100 with 1-byte enums (arm-none-eabi), 108 with 4-byte ones; b = 196, d = 44;
- *           l = 312 with 4-byte pointers, 332 with 8-byte ones; pad = 0 with 4-byte
- *           pointers, else 4 when N is odd (alignment of link[] after body[N]) + 4 when
- *           L + N G is odd (the system's tail, rounded up to the pointers' 8)
- *   double: K = 156 with 1-byte enums, 164 with 4-byte ones; b = 364, d = 88;
+ *   float:  K = 128 with 4-byte pointers and 1-byte enums (arm-none-eabi), 136 with 4-byte
+ *           enums, 148 with 8-byte pointers; b = 196, d = 44; l = 312 with 4-byte pointers,
+ *           332 with 8-byte ones; pad = 0 with 4-byte pointers, else 4 when N is odd
+ *           (alignment of link[] after body[N]) + 4 when L + N G is odd (the system's
+ *           tail, rounded up to the pointers' 8) + 4 when N + D is even (the workspace's
+ *           pointer to whose factors it keeps)
+ *   double: K = 196 with 1-byte enums, 204 with 4-byte ones; b = 364, d = 88;
  *           l = 592 with 4-byte pointers, 600 with 8-byte ones; pad = 4 when N is even (the
- *           int array forced[N] before force[N][3]) + 8 when L is even (the int arrays
- *           moving[L] before anchor_next[L][3], and the workspace's int tail rounded up to 8) */
-#define TGT_CLOSED_K ((TGT_R == 4u ? 100u : 156u) + (TGT_E == 4u ? 8u : 0u))
+ *           int array forced[N] before force[N][3]) + with 8-byte pointers 8 when L is even
+ *           (the int arrays moving[L] before anchor_next[L][3]) */
+#define TGT_CLOSED_K                                                                        \
+    ((TGT_R == 4u ? (TGT_P == 4u ? 128u : 140u) : 196u) + (TGT_E == 4u ? 8u : 0u))
 #define TGT_CLOSED_B (TGT_R == 4u ? 196u : 364u)
 #define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 312u : 592u) : (TGT_R == 4u ? 332u : 600u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_PAD                                                                      \
-    (TGT_R == 8u   ? (TGT_N % 2u == 0u ? 4u : 0u) + (TGT_L % 2u == 0u ? 8u : 0u)             \
-     : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) + ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) \
+    (TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) +                                             \
+                       (TGT_P == 8u && TGT_L % 2u == 0u ? 8u : 0u)                             \
+     : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) +                                         \
+                         ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) +                     \
+                         ((TGT_N + TGT_D) % 2u == 0u ? 4u : 0u)                               \
                    : 0u)
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + TGT_R * TGT_M + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L +             \
