@@ -442,15 +442,16 @@ static edmi_workspace fz_work;
  * its own precision: the factor 2 is for that (a step deep in a repulsive wall that Newton
  * never solved is off by 1e10 to 1e30). The guard's moves change the stored state by energy,
  * not by residual (its last-resort rounding can be far): where it acted and the stored state
- * is off, the step is taken again with the guard off, which stores Newton's iterate itself.
+ * is off, the step is taken again with the guard off, from the same system and workspace as
+ * they were (the factors the last step kept), which stores Newton's iterate itself.
  * Fallback steps store no solution, and a step split into substeps solves each substep (not
  * the whole dt): neither is checked here. */
 #ifndef FZ_SOLVED /* -DFZ_SOLVED=... hunts closer to the bound */
 #define FZ_SOLVED (2.0L * (long double)EDMI_SOLVED)
 #endif
 
-static edmi_system fz_off;
-static edmi_workspace fz_work2;
+static edmi_system fz_off, fz_after;
+static edmi_workspace fz_work2, fz_work_before, fz_work_after;
 
 static long double fz_n3l(const edmi_real *v)
 {
@@ -459,16 +460,29 @@ static long double fz_n3l(const edmi_real *v)
 }
 
 
-/* The step from s0 again with the guard off: Newton's iterate as it is (NULL if that fails). */
+/* The step from s0 (fz_before) again with the guard off: Newton's iterate as it is (NULL if
+ * that fails or splits into substeps). It is taken by the step's own system and workspace,
+ * set back as they were before it (fz_work_before), so that Newton starts from the same
+ * factors kept by the last step (edmi_workspace) and takes the same path; both are then put
+ * back as the step left them. */
 static const edmi_system *fz_guard_off(const edmi_system *s0, edmi_real dt)
 {
     edmi_params prm = s0->params;
-    memcpy(&fz_off, s0, sizeof fz_off);
+    edmi_step_result r;
+    edmi_status st;
+    memcpy(&fz_after, &fz_sys, sizeof fz_sys);
+    memcpy(&fz_work_after, &fz_work, sizeof fz_work);
+    memcpy(&fz_sys, s0, sizeof fz_sys);
+    memcpy(&fz_work, &fz_work_before, sizeof fz_work);
     prm.guard = EDMI_GUARD_OFF;
     prm.fallback = 0;
-    if (edmi_set_params(&fz_off, &prm) != EDMI_OK || edmi_step(&fz_off, &fz_work2, dt, 0) != EDMI_OK)
-        return 0;
-    return &fz_off;
+    st = edmi_set_params(&fz_sys, &prm);
+    if (st == EDMI_OK)
+        st = edmi_step(&fz_sys, &fz_work, dt, &r);
+    memcpy(&fz_off, &fz_sys, sizeof fz_sys);
+    memcpy(&fz_sys, &fz_after, sizeof fz_sys);
+    memcpy(&fz_work, &fz_work_after, sizeof fz_work);
+    return st == EDMI_OK && r.substeps == 1 && r.stop != EDMI_STOP_FALLBACK ? &fz_off : 0;
 }
 
 /* How far state s is from solving the step from s0 (tp_solved), against the bound: 1 if
@@ -571,6 +585,7 @@ static void fz_op_step(fz_in *in, int *steps)
     if (fz_trace)
         fz_print_sys(&fz_sys, dt);
     memcpy(&fz_before, &fz_sys, sizeof fz_sys);
+    memcpy(&fz_work_before, &fz_work, sizeof fz_work); /* its kept factors (fz_guard_off) */
     st = edmi_step(&fz_sys, &fz_work, dt, &res);
     if (fz_trace)
         fprintf(stderr, "  -> %s, %d iterations, stop %d, dh %.17g diss_guard %.17g "
