@@ -324,7 +324,7 @@ static int edmi__pot_valid(const edmi_potential *pot)
 
 /* Evaluate a validated potential at r > 0: V in o->v and, with `split`, its convex/concave
  * and super-convex/super-concave parts (a user potential's always). Where only V is read (the
- * mid-point's and PM's mean lengths) the parts are not copied: 2-4 % of a Cortex-M4F step for
+ * mid-point's and PM's mean lengths) the parts are not copied: 2-6 % of a Cortex-M4F step for
  * MP and PM. EDMI_ERR_DIVERGED if a user callback refuses r. */
 static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_pot_parts *o,
                                    int split)
