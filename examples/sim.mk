@@ -84,7 +84,7 @@ $(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/
 	    tests/passive.c edmi.c \
 	    -o $@ $(LDLIBS)
 SIM_REF_TESTS := $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
-                 $(foreach r,double float,'bash $(SIM_SRC)/test_summary.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes') \
+                 $(foreach r,double float,'bash $(SIM_SRC)/test_summary.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
                  'bash $(SIM_SRC)/test_emit.sh $(BUILD)/simref/double/edmi-sim "$(CC)"'
 
 # Last line: "N passed, N failed" (tests/run_all.sh can take "$(SIM_TEST) $(SIM_SCENES)").

@@ -66,7 +66,9 @@ static const char *const usage_text =
     "                            |q - q_ref| and |p - p_ref| over bodies, and |H - H_ref|\n"
     "  --ref converged           the error at t_end against the same run at dt/2, dt/4, ...\n"
     "                            (Newton to its floor) until two halvings agree to 1e-3 of it\n"
-    "                            (at most 6, or 10^8 steps); prints the reference's own error\n"
+    "                            (at most 6, or 10^8 steps); prints the reference's own error;\n"
+    "                            exit 1 if a halved run fails or the halvings still differ by\n"
+    "                            more than a tenth of the error\n"
     "  --row                     print one Markdown table row instead of the summary\n"
     "  --label TEXT              the row's scheme column (default: derived from the options)\n"
     "  --quiet                   no progress report on stderr\n"
@@ -719,6 +721,131 @@ static void ref_compare(sim_ref *r, sim_err *e, double t, double dt, double h)
     }
 }
 
+/* The stiffest link at the start: omega = sqrt(k / mu), k the larger of |V''(d)| (along the
+ * link) and |V'(d)| / d (across it, what makes gravity stiff) at the start length d, mu the
+ * reduced mass (a body's own mass on an anchor; the diagonal masses where the mass matrix is
+ * coupled). omega dt far above 1 means a step spans many periods of that link: the schemes
+ * stay stable and, with the guard, never raise H, but they resolve none of that motion. */
+#define SIM_STIFF 2.0 /* omega dt above this: warn (mid-point's phase error ~20 % per step) */
+
+typedef struct sim_stiff {
+    int link;        /* the stiffest link, -1 if no link */
+    double omega;    /* its frequency [1/T] */
+    double omega_dt; /* omega dt */
+} sim_stiff;
+
+static void stiffest_link(double dt, sim_stiff *sf)
+{
+    int j;
+    sf->link = -1;
+    sf->omega = sf->omega_dt = 0.0;
+    for (j = 0; j < sys.n_links; j++) {
+        const edmi_link *lk = &sys.link[j];
+        const edmi_real *qb = lk->b == EDMI_ANCHOR ? lk->anchor : sys.body[lk->b].q;
+        double r[3], d, k, mu, ma = (double)sys.body[lk->a].m, w;
+        edmi_pot_parts pp;
+        int i;
+        for (i = 0; i < 3; i++)
+            r[i] = (double)sys.body[lk->a].q[i] - (double)qb[i];
+        d = norm3d(r);
+        if (!(d > 0.0) || edmi_pot_eval(&lk->pot, (edmi_real)d, &pp) != EDMI_OK)
+            continue;
+        k = fabs((double)pp.v[2]);
+        if (fabs((double)pp.v[1]) / d > k)
+            k = fabs((double)pp.v[1]) / d;
+        mu = lk->b == EDMI_ANCHOR ? ma
+                                  : ma * (double)sys.body[lk->b].m /
+                                        (ma + (double)sys.body[lk->b].m);
+        w = sqrt(k / mu);
+        if (isfinite(w) && w > sf->omega) {
+            sf->link = j;
+            sf->omega = w;
+        }
+    }
+    sf->omega_dt = sf->omega * dt;
+}
+
+/* "link 3 (line 12: body 2 (earth) - body 3)" for messages; without "line 12: " where the
+ * message starts with the line. */
+static const char *link_label(int j, int with_line, char *buf, size_t n)
+{
+    const edmi_link *lk = &sys.link[j];
+    char a[SIM_NAME_MAX + 16], b[SIM_NAME_MAX + 16];
+    snprintf(a, sizeof a, scn.body_name[lk->a][0] ? "body %d (%s)" : "body %d", lk->a,
+             scn.body_name[lk->a]);
+    if (lk->b == EDMI_ANCHOR)
+        snprintf(b, sizeof b, "its anchor");
+    else
+        snprintf(b, sizeof b, scn.body_name[lk->b][0] ? "body %d (%s)" : "body %d", lk->b,
+                 scn.body_name[lk->b]);
+    if (with_line)
+        snprintf(buf, n, "link %d (line %d: %s - %s)", j, scn.link_line[j], a, b);
+    else
+        snprintf(buf, n, "link %d (%s - %s)", j, a, b);
+    return buf;
+}
+
+/* The warning for omega dt > SIM_STIFF, naming the fixes. */
+static void warn_stiff(const char *scene, const sim_stiff *sf)
+{
+    char lbl[128];
+    if (sf->link < 0 || !(sf->omega_dt > SIM_STIFF))
+        return;
+    fprintf(stderr, "edmi-sim: warning: %s: the stiffest link, %s, has omega = %.3g at the "
+            "start, so omega dt = %.3g (%.2g of its periods per step): the steps resolve none "
+            "of its motion, and the run can be far from the converged answer although H "
+            "behaves. Take --dt %.3g or less (omega dt <= %g); --ref converged measures the "
+            "error of this dt.\n", scene, link_label(sf->link, 1, lbl, sizeof lbl), sf->omega,
+            sf->omega_dt, sf->omega_dt / (2.0 * 3.14159265358979323846),
+            SIM_STIFF / sf->omega, SIM_STIFF);
+}
+
+/* Why the scene's initial state was refused (EDMI_ERR_RANGE and the like from
+ * edmi_load_scene or edmi_invariants_of): the first body or link whose own energy or momentum
+ * is beyond EDMI_REAL's range, with the line that declared it; else the sum. */
+static void explain_state(const char *scene, const char *what, edmi_status s)
+{
+    int a, j, i;
+    for (a = 0; a < scn.n_bodies; a++) {
+        const edmi_body *bd = &scn.body[a];
+        edmi_real pp = bd->p[0] * bd->p[0] + bd->p[1] * bd->p[1] + bd->p[2] * bd->p[2];
+        edmi_real k = pp / bd->m / (edmi_real)2, l[3];
+        l[0] = bd->q[1] * bd->p[2] - bd->q[2] * bd->p[1];
+        l[1] = bd->q[2] * bd->p[0] - bd->q[0] * bd->p[2];
+        l[2] = bd->q[0] * bd->p[1] - bd->q[1] * bd->p[0];
+        if (!isfinite(k) || !isfinite(l[0]) || !isfinite(l[1]) || !isfinite(l[2])) {
+            fprintf(stderr, "edmi-sim: %s:%d: body %d%s%s%s: its %s is beyond the range of "
+                    "EDMI_REAL (largest %.3g): %s refused the state (%s)\n", scene,
+                    scn.body_line[a], a, scn.body_name[a][0] ? " (" : "", scn.body_name[a],
+                    scn.body_name[a][0] ? ")" : "",
+                    isfinite(k) ? "angular momentum q x p" : "kinetic energy |p|^2/(2m)",
+                    (double)EDMI_REAL_MAX, what, edmi_status_name(s));
+            return;
+        }
+    }
+    for (j = 0; j < scn.n_links; j++) {
+        const edmi_link *lk = &scn.link[j];
+        const edmi_real *qb = lk->b == EDMI_ANCHOR ? lk->anchor : scn.body[lk->b].q;
+        edmi_real r[3], d;
+        edmi_pot_parts pp;
+        char lbl[128];
+        for (i = 0; i < 3; i++)
+            r[i] = scn.body[lk->a].q[i] - qb[i];
+        d = (edmi_real)norm3r(r);
+        if (edmi_pot_eval(&lk->pot, d, &pp) != EDMI_OK || !isfinite(pp.v[0]) ||
+            !isfinite(pp.v[1])) {
+            fprintf(stderr, "edmi-sim: %s:%d: %s: its energy or force at the start length "
+                    "%.6g is beyond the range of EDMI_REAL: %s refused the state (%s)\n", scene,
+                    scn.link_line[j], link_label(j, 0, lbl, sizeof lbl), (double)d, what,
+                    edmi_status_name(s));
+            return;
+        }
+    }
+    fprintf(stderr, "edmi-sim: %s: %s: %s%s\n", scene, what, edmi_status_name(s),
+            s == EDMI_ERR_RANGE ? " (every body's and link's own terms are in range: their sum "
+                                  "is not)" : "");
+}
+
 /* Load the scene (and its ports) with the run's parameters, Newton to its floor. */
 static int load_for_reference(void)
 {
@@ -736,16 +863,32 @@ static int load_for_reference(void)
     return 0;
 }
 
-/* The state at t_end, n steps of dt; -1 if a step fails. */
-static int final_state(double dt, long n, double q[][3], double p[][3])
+/* Where a halved run failed (--ref converged). */
+typedef struct sim_fail {
+    long step;                /* the failed step, 1-based; 0: the load failed */
+    double t;                 /* the time it started from */
+    edmi_status status;
+    edmi_step_result res;
+} sim_fail;
+
+/* The state at t_end, n steps of dt; -1 if a step fails (where and why in *f). */
+static int final_state(double dt, long n, double q[][3], double p[][3], sim_fail *f)
 {
     long k;
     int b, i;
-    if (load_for_reference())
+    memset(f, 0, sizeof *f);
+    if (load_for_reference()) {
+        f->status = EDMI_ERR_PARAM;
         return -1;
-    for (k = 0; k < n; k++)
-        if (edmi_step(&sys, &work, (edmi_real)dt, NULL) != EDMI_OK)
+    }
+    for (k = 0; k < n; k++) {
+        f->t = (double)sys.t;
+        f->status = edmi_step(&sys, &work, (edmi_real)dt, &f->res);
+        if (f->status != EDMI_OK) {
+            f->step = k + 1;
             return -1;
+        }
+    }
     for (b = 0; b < sys.n_bodies; b++)
         for (i = 0; i < 3; i++) {
             q[b][i] = (double)sys.body[b].q[i];
@@ -777,7 +920,10 @@ typedef struct sim_conv {
     int halvings;     /* dt / 2^halvings is the reference */
     double q_err, p_err; /* the run's error at t_end against it */
     double q_own;     /* the reference's own error: its last two halvings' difference */
-    int failed;       /* a halving's step failed: no reference */
+    int failed;       /* a halving's step failed: no reference (where: fail) */
+    int agreed;       /* the last two halvings agreed to SIM_REF_AGREE of q_err */
+    long n;           /* the run's steps */
+    sim_fail fail;
 } sim_conv;
 
 /* --ref converged: halve dt until two successive halvings agree to SIM_REF_AGREE of the run's
@@ -788,10 +934,12 @@ static void converged_reference(double dt, long n, const double (*q1)[3],
     static double q[2][EDMI_MAX_BODIES][3], p[2][EDMI_MAX_BODIES][3];
     int k, cur = 0;
     memset(c, 0, sizeof *c);
+    c->n = n;
     for (k = 1; k <= SIM_REF_HALVINGS && (double)n * (double)(1L << k) <= SIM_REF_STEPS; k++) {
         cur = k & 1;
-        if (final_state(dt / (double)(1L << k), n << k, q[cur], p[cur])) {
+        if (final_state(dt / (double)(1L << k), n << k, q[cur], p[cur], &c->fail)) {
             c->failed = 1;
+            c->halvings = k;
             return;
         }
         c->halvings = k;
@@ -799,10 +947,23 @@ static void converged_reference(double dt, long n, const double (*q1)[3],
         c->p_err = states_diff(p1, (const double(*)[3])p[cur]);
         if (k >= 2) {
             c->q_own = states_diff((const double(*)[3])q[cur], (const double(*)[3])q[!cur]);
-            if (c->q_own <= SIM_REF_AGREE * c->q_err)
+            c->agreed = c->q_own <= SIM_REF_AGREE * c->q_err;
+            if (c->agreed)
                 return;
         }
     }
+}
+
+/* --ref converged where the halvings never agreed to SIM_REF_AGREE of the run's error. */
+#define SIM_REF_LOOSE 0.1 /* the reference's own error above this share of the run's: unknown */
+
+static const char *ref_verdict(const sim_conv *c)
+{
+    return c->q_own > SIM_REF_LOOSE * c->q_err
+               ? ": NOT CONVERGED, the error is unknown: the halvings still differ by more "
+                 "than a tenth of it. Take a smaller --dt"
+               : ": the halvings agreed to less than 1e-3 of the error, so its figure holds "
+                 "to about the reference's own error";
 }
 
 static void print_ref(const sim_opts *o, const sim_err *e, const sim_conv *c, double dt)
@@ -810,13 +971,22 @@ static void print_ref(const sim_opts *o, const sim_err *e, const sim_conv *c, do
     if (!o->ref)
         return;
     if (strcmp(o->ref, "converged") == 0) {
-        if (c->failed)
-            printf("vs ref    converged: a step of a halved run failed: no reference\n");
+        double h = dt / (double)(1L << c->halvings);
+        if (c->failed && c->fail.step == 0)
+            printf("vs ref    converged: no reference: the scene did not load again\n");
+        else if (c->failed)
+            printf("vs ref    converged: no reference: the run at dt/%ld = %.6g (Newton to its "
+                   "floor) failed at step %ld of %ld (from t = %.10g): %s after %d Newton "
+                   "iterations, scaled residual %.3g. The halved steps did not converge "
+                   "either: raise --l-max, allow --substeps, or start from a smaller --dt\n",
+                   1L << c->halvings, h, c->fail.step, c->n << c->halvings, c->fail.t,
+                   edmi_status_name(c->fail.status), c->fail.res.iterations,
+                   (double)c->fail.res.residual);
         else
             printf("vs ref    converged (dt/%ld = %.6g, Newton to its floor): at t_end "
                    "max |q - q_ref| %.3e, max |p - p_ref| %.3e; the reference's own error "
-                   "%.1e (its last two halvings)\n", 1L << c->halvings,
-                   dt / (double)(1L << c->halvings), c->q_err, c->p_err, c->q_own);
+                   "%.1e (its last two halvings)%s\n", 1L << c->halvings, h, c->q_err, c->p_err,
+                   c->q_own, c->agreed ? "" : ref_verdict(c));
         return;
     }
     printf("vs ref    %s: %ld times compared (the last t = %.10g): max |q - q_ref| %.3e "
@@ -836,8 +1006,9 @@ static double balance_tol(const sim_opts *o)
 }
 
 static void print_summary(const sim_opts *o, const sim_stats *st, double dt, long n_steps,
-                          const edmi_invariants *inv0)
+                          const edmi_invariants *inv0, const sim_stiff *sf)
 {
+    char lnk[128];
     const edmi_params *p = &sys.params;
     char why[48], lbl[64];
     int j_ok, lc_ok;
@@ -855,6 +1026,10 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
     printf(", tol_R %.3g, tol_A %.3g, l_max %d%s\n", (double)p->tol_r, (double)p->tol_a,
            p->l_max, o->energy_balance ? ", energy balance on" : "");
     printf("steps     %ld of %ld, dt %.6g, t = %.10g\n", st->steps, n_steps, dt, (double)sys.t);
+    if (sf->link >= 0)
+        printf("stiffest  %s: omega dt %.3g at the start%s\n", link_label(sf->link, 1, lnk, sizeof lnk),
+               sf->omega_dt, sf->omega_dt > SIM_STIFF ? ": FAR ABOVE 1, this dt resolves none "
+                                                        "of its motion (see the warning)" : "");
     printf("wall      %.3f s (%.3g us/step)\n", st->wall,
            st->steps ? 1e6 * st->wall / (double)st->steps : 0.0);
     printf("Newton    %.3f iterations/step (max %d); %ld steps stopped at the round-off floor\n",
@@ -974,6 +1149,7 @@ int main(int argc, char **argv)
     static edmi_system run_sys, prev_sys; /* prev_sys: bodies and anchors of the last state */
     sim_err rerr;
     sim_conv conv;
+    sim_stiff stiff;
     int file_ref;
     double dt, t_end, t0, next_report = SIM_PROGRESS_AFTER;
     long n_steps, every, k;
@@ -1046,7 +1222,7 @@ int main(int argc, char **argv)
     view = sim_scene_view(&scn);
     s = edmi_load_scene(&sys, &view);
     if (s != EDMI_OK) {
-        fprintf(stderr, "edmi-sim: %s: edmi_load_scene: %s\n", o.scene, edmi_status_name(s));
+        explain_state(o.scene, "edmi_load_scene", s);
         return 2;
     }
     for (i = 0; i < scn.n_forces; i++) {
@@ -1059,10 +1235,11 @@ int main(int argc, char **argv)
     }
     s = edmi_invariants_of(&sys, &inv0);
     if (s != EDMI_OK) {
-        fprintf(stderr, "edmi-sim: %s: invariants of the initial state: %s\n", o.scene,
-                edmi_status_name(s));
+        explain_state(o.scene, "edmi_invariants_of", s);
         return 2;
     }
+    stiffest_link(dt, &stiff);
+    warn_stiff(o.scene, &stiff);
 
     memset(&rerr, 0, sizeof rerr);
     memset(&conv, 0, sizeof conv);
@@ -1097,9 +1274,11 @@ int main(int argc, char **argv)
         s = edmi_step(&sys, &work, (edmi_real)dt, &res);
         if (s != EDMI_OK) {
             fprintf(stderr, "%sedmi-sim: step %ld of %ld (from t = %.10g) failed: %s after %d "
-                    "Newton iterations (scaled residual %.3g, last correction %.3g)\n",
+                    "Newton iterations (scaled residual %.3g, last correction %.3g)%s\n",
                     reported && tty ? "\n" : "", k, n_steps, (double)sys.t, edmi_status_name(s),
-                    res.iterations, (double)res.residual, (double)res.correction);
+                    res.iterations, (double)res.residual, (double)res.correction,
+                    stiff.omega_dt > SIM_STIFF ? "; omega dt is far above 1 (the warning above): "
+                                                 "take a smaller --dt" : "");
             failed = 1;
             break;
         }
@@ -1227,13 +1406,13 @@ int main(int argc, char **argv)
         converged_reference(dt, n_steps, (const double(*)[3])q1, (const double(*)[3])p1,
                             &conv);
         sys = run_sys;
-        failed |= conv.failed;
+        failed |= conv.failed || (!conv.agreed && conv.q_own > SIM_REF_LOOSE * conv.q_err);
     }
     if (o.row) {
         print_row(&o, &st, file_ref ? rerr.q_max : conv.q_err,
                   file_ref ? rerr.q_final : conv.q_err);
     } else {
-        print_summary(&o, &st, dt, n_steps, &inv0);
+        print_summary(&o, &st, dt, n_steps, &inv0, &stiff);
         print_ref(&o, &rerr, &conv, dt);
     }
     if (failed)

@@ -51,7 +51,6 @@ typedef struct sim__ctx {
     int title_line;
     int field_line;
     int set_line[SIM__N_SET];
-    int body_line[EDMI_MAX_BODIES];
     int force_line[EDMI_MAX_BODIES]; /* by body: line of its force port, 0 if none */
 } sim__ctx;
 
@@ -271,6 +270,34 @@ static int sim__name_ok(const char *t)
     return n < SIM_NAME_MAX;
 }
 
+/* Whether a word names a potential (a line that left out a body reads one where a body
+ * belongs). */
+static int sim__is_pot_word(const char *t)
+{
+    static const char *const pots[] = {"harmonic", "quartic", "neo_hooke", "lj", "inverse",
+                                       "gravity"};
+    size_t i;
+    for (i = 0; i < sizeof pots / sizeof pots[0]; i++)
+        if (strcmp(t, pots[i]) == 0)
+            return 1;
+    return 0;
+}
+
+/* The usage line of a key that names bodies. */
+static const char *sim__key_usage(const char *key)
+{
+    static const char *const use[][2] = {{"pair", "pair A B POTENTIAL PARAMS"},
+                                         {"chain", "chain FIRST LAST POTENTIAL PARAMS"},
+                                         {"anchor", "anchor BODY x y z POTENTIAL PARAMS"},
+                                         {"mass", "mass A B m_AB"},
+                                         {"force", "force BODY fx fy fz"}};
+    size_t i;
+    for (i = 0; i < sizeof use / sizeof use[0]; i++)
+        if (strcmp(key, use[i][0]) == 0)
+            return use[i][1];
+    return key;
+}
+
 /* A body named by index (0-based, in order of declaration) or by name. */
 static int sim__body_ref(sim__ctx *c, int i, int *out)
 {
@@ -289,6 +316,9 @@ static int sim__body_ref(sim__ctx *c, int i, int *out)
             *out = b;
             return 0;
         }
+    if (sim__is_pot_word(t))
+        return sim__fail(c, "%s: '%s' is a potential, found where the %s body belongs (usage: %s)",
+                         c->key, t, i == 1 ? "first" : "second", sim__key_usage(c->key));
     return sim__fail(c, "%s: unknown body '%s' (declare it with `body` before use)", c->key, t);
 }
 
@@ -408,6 +438,7 @@ static int sim__add_link(sim__ctx *c, int a, int b, const double *x, const sim__
     lk.pot.fn = 0;
     lk.pot.dd = 0;
     lk.pot.ctx = 0;
+    s->link_line[s->n_links] = c->line;
     s->link[s->n_links++] = lk;
     return 0;
 }
@@ -450,7 +481,7 @@ static int sim__key_body(sim__ctx *c)
         for (o = 0; o < b; o++)
             if (strcmp(s->body_name[o], c->tok[1]) == 0)
                 return sim__fail(c, "body: name '%s' already used by body %d on line %d",
-                                 c->tok[1], o, c->body_line[o]);
+                                 c->tok[1], o, s->body_line[o]);
         strcpy(s->body_name[b], c->tok[1]);
     } else {
         s->body_name[b][0] = '\0';
@@ -462,7 +493,7 @@ static int sim__key_body(sim__ctx *c)
         s->body[b].q[i] = (edmi_real)v[1 + i];
         s->body[b].p[i] = (edmi_real)v[4 + i];
     }
-    c->body_line[b] = c->line;
+    s->body_line[b] = c->line;
     s->n_bodies++;
     return 0;
 }

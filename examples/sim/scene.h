@@ -36,8 +36,10 @@ typedef struct sim_scene {
     int n_bodies;
     edmi_body body[EDMI_MAX_BODIES];
     char body_name[EDMI_MAX_BODIES][SIM_NAME_MAX]; /*!< "" for an unnamed body */
+    int body_line[EDMI_MAX_BODIES];          /*!< line that declared each body (messages) */
     int n_links;
     edmi_link link[EDMI_MAX_LINKS];
+    int link_line[EDMI_MAX_LINKS];           /*!< line that declared each link (messages) */
     int n_dampers;
     edmi_damper damper[EDMI_MAX_DAMPERS];
     int n_mass;                              /*!< off-diagonal masses (`mass A B m`) */

@@ -146,6 +146,10 @@ static void test_indices(void)
                  "body index 5 out of range (2 bodies declared so far)");
     EXPECT_ERROR(TWO "pair -1 0 lj 1 1\n", "t.scene:3: ", "body index -1 out of range");
     EXPECT_ERROR(TWO "pair 0 earth lj 1 1\n", "t.scene:3: ", "unknown body 'earth'");
+    EXPECT_ERROR(TWO "pair 0 harmonic 1 1\n", "t.scene:3: ",
+                 "'harmonic' is a potential, found where the second body belongs (usage: pair A B");
+    EXPECT_ERROR(TWO "chain lj 1 1 1\n", "t.scene:3: ",
+                 "'lj' is a potential, found where the first body belongs (usage: chain FIRST");
     EXPECT_ERROR(TWO "pair 1 1 lj 1 1\n", "t.scene:3: ", "links body 1 to itself");
     EXPECT_ERROR(TWO "mass 1 1 0.1\n", "t.scene:3: ", "mass: couples body 1 to itself");
     EXPECT_ERROR(TWO "mass 0 1 0.1\nmass 1 0 0.2\n", "t.scene:4: ",

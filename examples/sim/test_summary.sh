@@ -2,10 +2,13 @@
 # edmi-sim's summary: the "H steps" line (H of every stored state in tp_q, __float128 on the
 # host, by tests/passive.c, not the library), --energy-balance's tolerance and exit status, and the
 # --row cost column. `make test` runs it with the double and the float edmi-sim.
-#   usage: test_summary.sh EDMI_SIM SCENE_DIR      Last line: "N passed, N failed".
+#   usage: test_summary.sh EDMI_SIM SCENE_DIR [float|double]   Last line: "N passed, N failed".
 set -u
-sim=${1:?usage: test_summary.sh EDMI_SIM SCENE_DIR}
+sim=${1:?usage: test_summary.sh EDMI_SIM SCENE_DIR [float|double]}
 scenes=${2:?scene dir}
+real=${3:-double}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
 spring=$scenes/neo_hookean.scene
 pass=0 fail=0
 ok() { echo "ok   $1"; pass=$((pass + 1)); }
@@ -71,6 +74,69 @@ if [ $rc = 0 ] && [ "${n:-0}" = 2000 ] && [ "${e:-x}" = 0 ] && grep -q '^balance
     ok "PM, cable with a consistent (coupled) mass matrix: H rose in $r of 2000 steps, never beyond the tank; balance ok"
 else
     bad "PM, consistent cable: exit $rc: $(grep -E '^(H steps|balance)' <<<"$out")"
+fi
+
+# 7. A step far longer than the stiffest link's period: four bodies of 0.2 on springs of
+#    k = 2000 (omega = sqrt(k / mu) = sqrt(2000 / 0.1) = 141.4 for a pair, 100 on the anchor)
+#    at dt = 1, 23 periods per step. The run succeeds and H behaves, so the only sign is the
+#    warning (stderr) and the summary's "stiffest" line, both naming link 1 on line 7; the
+#    paper's spring (omega dt = 0.018) has neither.
+cat >"$tmp/chain.scene" <<'SCENE'
+title stiff chain
+body a 0.2 0 0 0 0 0 0
+body b 0.2 1.1 0 0 0 0 0
+body c 0.2 2 0 0 0 0.1 0
+body d 0.2 3.05 0 0 0 0 0
+anchor a -1 0 0 harmonic 2000 0
+chain a d harmonic 2000 1
+set dt 1e-3
+set t_end 5
+SCENE
+out=$("$sim" "$tmp/chain.scene" --dt 1 --quiet 2>"$tmp/err"); rc=$?
+if [ $rc = 0 ] && grep -q 'warning: .*link 1 (line 7: .*omega dt = 141 (23 of its periods per step).*Take --dt 0.0141 or less' "$tmp/err" &&
+        grep -q '^stiffest  link 1 (line 7: body 0 (a) - body 1 (b)): omega dt 141 at the start: FAR ABOVE 1' <<<"$out"; then
+    ok "stiff chain at dt = 1: warned, omega dt = 141 = sqrt(2000/0.1) on link 1 (line 7), exit 0"
+else
+    bad "stiff chain at dt = 1: exit $rc: $(cat "$tmp/err") / $(grep '^stiffest' <<<"$out")"
+fi
+out=$("$sim" "$spring" --quiet 2>"$tmp/err"); rc=$?
+if [ $rc = 0 ] && [ ! -s "$tmp/err" ] && grep -q '^stiffest  link 0 .*: omega dt 0.018 at the start$' <<<"$out"; then
+    ok "paper's spring: omega dt 0.018, no warning"
+else
+    bad "paper's spring: exit $rc: $(cat "$tmp/err") / $(grep '^stiffest' <<<"$out")"
+fi
+# 8. --ref converged on that chain: the halved runs fail (Newton, l_max 20), and with substeps
+#    they never agree; either way the message says so and the exit status is 1.
+out=$("$sim" "$tmp/chain.scene" --dt 1 --ref converged --quiet 2>/dev/null); rc=$?
+if [ $rc = 1 ] && grep -q '^vs ref    converged: no reference: the run at dt/[0-9]* = .* failed at step [0-9]* of [0-9]* (from t = .*): EDMI_ERR_' <<<"$out"; then
+    ok "--ref converged, stiff chain: $(grep -o 'the run at dt/[0-9]*[^:]*' <<<"$out"), exit 1"
+else
+    bad "--ref converged, stiff chain: exit $rc: $(grep '^vs ref' <<<"$out")"
+fi
+out=$("$sim" "$tmp/chain.scene" --dt 1 --ref converged --substeps 3 --quiet 2>/dev/null); rc=$?
+if [ $rc = 1 ] && grep -q '^vs ref    converged (dt/64 .*: NOT CONVERGED, the error is unknown' <<<"$out"; then
+    ok "--ref converged --substeps 3, stiff chain: not converged in 6 halvings, exit 1"
+else
+    bad "--ref converged --substeps 3, stiff chain: exit $rc: $(grep '^vs ref' <<<"$out")"
+fi
+# 9. An initial state beyond the range: the body (line 2) or the link (line 4) is named.
+#    |p|^2 / 2: 1e400 / 2 in double, 1e60 / 2 in float.
+big=1e200; [ "$real" = float ] && big=1e30
+printf 'title t\nbody a 1 0 0 0 %s 0 0\nbody b 1 1 0 0 0 0 0\npair a b harmonic 1 1\nset dt 0.1\nset t_end 1\n' \
+    "$big" >"$tmp/big_p.scene"
+err=$("$sim" "$tmp/big_p.scene" --quiet 2>&1 >/dev/null); rc=$?
+if [ $rc = 2 ] && grep -q 'big_p.scene:2: body 0 (a): its kinetic energy |p|^2/(2m) is beyond the range of EDMI_REAL' <<<"$err"; then
+    ok "initial momentum $big: line 2, body 0, kinetic energy beyond the range, exit 2"
+else
+    bad "initial momentum $big: exit $rc: $err"
+fi
+printf 'title t\nbody a 1 0 0 0 0 0 0\nbody b 1 1e-30 0 0 0 0 0\npair a b lj 1 1\nset dt 0.1\nset t_end 1\n' \
+    >"$tmp/close.scene"
+err=$("$sim" "$tmp/close.scene" --quiet 2>&1 >/dev/null); rc=$?
+if [ $rc = 2 ] && grep -q 'close.scene:4: link 0 (body 0 (a) - body 1 (b)): its energy or force at the start length 1e-30 is beyond the range' <<<"$err"; then
+    ok "Lennard-Jones pair 1e-30 apart: line 4, link 0, beyond the range, exit 2"
+else
+    bad "Lennard-Jones pair 1e-30 apart: exit $rc: $err"
 fi
 
 echo "$pass passed, $fail failed"
