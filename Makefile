@@ -1,21 +1,90 @@
-# edmi build.
-#   make            library object and examples, in EDMI_REAL precision, into $(BUILD)/$(EDMI_REAL)/
-#   make run        the main job: the spring's accuracy table (examples/paper_spring.c), then the
-#                   paper's three examples with every scheme (edmi-sim, make run-examples)
-#   make test       the test suite in four configurations + library checks; last line is the total
-#   make soak       the passivity guard's adversarial scenes, 10^6 steps per case (SOAK_STEPS)
-#   make fuzz       the API fuzzer, both precisions, FUZZ_TIME seconds each (clang, libFuzzer)
-#   make fuzz-cov   edmi.c's line and branch coverage by the fuzz corpora
-#   make refs       regenerate tests/ref_track.h, the double reference the float suite tracks
-#   make cross      the library for Cortex-M4F, M7, M0+ and rv32imac in float and double, their
-#                   sizes, capacity table and external references (port/target.mk)
-#   make study      what accuracy costs: error against instructions, every scheme and its peers
-#                   (examples/sim.mk, examples/study/)
-#   make orbits     does the passivity guard steer conservative orbits? drifts of H, J and the
-#                   radius, guarded PM against PM guard off, MP and LG (examples/orbits.c)
-#   make cmake-check  the CMake target `edmi` in a consumer project, host and Cortex-M4F
-#   make clean
-# Override on the command line: make CC=clang CFLAGS='-O3' EDMI_REAL=float BUILD=out
+# edmi build. `make help` prints the lines below that start with "#>".
+#> edmi: make targets, with the wall time from a fresh clone on a quiet 2-core machine
+#> (builds included) and the Debian 12 packages each needs beyond make, gcc and bash
+#> (`bash .ci/run` installs them all).
+#>
+#> -- the two commands --
+#> make run             50 s
+#>     the main job: the spring's accuracy table, then the paper's three examples with every
+#>     scheme (edmi-sim), a line as each of its 27 runs ends
+#> make test            3 min    needs g++ (clang: one check more)
+#>     the test suite in four configurations (double, float, both under ASan+UBSan), the
+#>     simulator's tests, the fuzz corpus replayed, library checks; last line "N passed, N
+#>     failed"
+#>
+#> -- build --
+#> make                 20 s
+#>     edmi.o, the examples and edmi-sim into build/double/ (EDMI_REAL=float: build/float/)
+#> make sim             10 s
+#>     edmi-sim and the scene parser's test program
+#> make help            0 s
+#>     this list
+#> make clean           0 s
+#>     remove build/
+#>
+#> -- the host: examples and measurements --
+#> make run-examples    41 s
+#>     the paper's three examples alone (the second half of make run)
+#> make test-scene      10 s
+#>     the scene parser's tests
+#> make haptic          5 s      needs gnuplot for the figure
+#>     the 1 kHz virtual coupling (examples/haptic.c): its table and trace, and the figure
+#>     where gnuplot is installed
+#> make plots           2 min    needs gnuplot for the figures
+#>     traces of the paper's examples and every figure in examples/figures/ (without gnuplot:
+#>     the traces and the cable's table only)
+#> make orbits          30 s
+#>     does the guard steer conservative orbits? drifts of H, J and r, guarded PM against PM
+#>     without it, MP and LG
+#> make bench           1.5 min  needs valgrind
+#>     cost against scene size (wall time), then callgrind instructions per step and per
+#>     correction against velocity Verlet
+#> make bench-profile   6 s      needs valgrind
+#>     where a step's instructions go, by phase and by function
+#> make guard-cost      17 s     needs valgrind
+#>     the passivity guard's cost on the host (callgrind)
+#> make study           19 min   needs valgrind, libgsl-dev, qemu-system-arm; gnuplot for the figures
+#>     what accuracy costs: every scheme and its peers (velocity Verlet, GSL) on five scenes,
+#>     error against instructions; STUDY_QUICK=1 is the CI subset (45 s)
+#> make soak            7 min
+#>     the guard's adversarial scenes, 10^6 steps per case, both precisions (SOAK_STEPS=N for
+#>     fewer)
+#> make refs            5 s
+#>     regenerate tests/ref_track.h, the double reference the float suite tracks, after a
+#>     change that moves results
+#>
+#> -- fuzzing --
+#> make fuzz            2.5 min  needs clang, llvm, libclang-rt-14-dev
+#>     the API fuzzer, both precisions side by side, FUZZ_TIME seconds each (default 60)
+#> make fuzz-cov        1 min    needs clang, llvm
+#>     edmi.c's line and branch coverage by the fuzz corpora
+#>
+#> -- microcontrollers: cross builds and QEMU --
+#> make cross           65 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-riscv64-unknown-elf
+#>     edmi.c for Cortex-M4F, M7, M0+ and rv32imac: size table, capacity table, external
+#>     references
+#> make test-target     4 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#>     the test suite on QEMU: Cortex-M4F (float) and Cortex-M7 (double), with the mass-matrix
+#>     tests
+#> make bench-target    2 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#>     instructions per step, the worst case, stack and the time bound, on QEMU -icount
+#> make haptic-target   20 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#>     the 1 kHz virtual coupling on the Cortex-M4F: instructions per tick
+#> make smoke-target    15 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#>     the QEMU runner's own exit statuses (pass, failure, fault, hang, stack overflow)
+#> make study-target    1 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#>     the study's Cortex-M4F column (make study runs it)
+#> make check-ram       6 s      needs gcc-arm-none-eabi, gcc-riscv64-unknown-elf
+#>     the RAM formula of the sizing table against sizeof
+#> make check-sqrt      4 s
+#>     port/riscv/sqrt.c against the host's libm
+#> make check-port      6 s      needs gcc-arm-none-eabi, gcc-riscv64-unknown-elf
+#>     check-ram and check-sqrt
+#> make cmake-check     10 s     needs cmake, gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#>     the CMake target edmi in a consumer project, for the host and the Cortex-M4F (run on
+#>     QEMU)
+#>
+#> Override on the command line: make CC=clang CFLAGS='-O3' EDMI_REAL=float BUILD=out
 
 CC ?= cc
 CXX ?= g++
@@ -39,7 +108,7 @@ ARM_NM ?= arm-none-eabi-nm
 ARM_SIZE ?= arm-none-eabi-size
 ARM_TARGET := -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
 
-.PHONY: all run test soak refs cross clean fuzz fuzz-cov
+.PHONY: all run test soak refs cross clean fuzz fuzz-cov help
 
 # ---- host: library and examples ------------------------------------------------------------
 HOST := $(BUILD)/$(EDMI_REAL)
@@ -56,8 +125,11 @@ $(HOST)/edmi.o: edmi.c edmi.h | $(HOST)
 $(HOST)/%: examples/%.c $(HOST)/edmi.o edmi.h | $(HOST)
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -I. $< $(HOST)/edmi.o -o $@ $(LDLIBS)
 
-# The main job: the spring's accuracy table, then the paper's three examples (edmi-sim).
-run: $(HOST)/paper_spring $(SIM_BIN)
+# The main job: the spring's accuracy table, then the paper's three examples (edmi-sim). Its
+# two programs build side by side (SIM_JOBS at a time) unless make was given its own -j.
+run:
+	$(MAKE) --no-print-directory $(if $(filter -j%,$(MAKEFLAGS)),,-j$(SIM_JOBS)) \
+	    $(HOST)/paper_spring $(SIM_BIN)
 	$(HOST)/paper_spring
 	$(MAKE) --no-print-directory run-examples
 
@@ -144,7 +216,8 @@ test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLA
 	    $(BAND_RUNS) $(MASS_BINS) $(MASS_SPD_BINS) \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)') \
-	    'bash tests/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/check_flags.sh clang')
+	    'bash tests/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/check_flags.sh clang') \
+	    'bash tests/check_help.sh'
 
 # ---- soak: the guard's adversarial scenes for 10^6 steps per case, in both precisions ---------
 # tests/soak.c; the inequality H_n+1 - H_n <= W is checked after every step in tp_q
@@ -225,4 +298,7 @@ $(HOST) $(CHECK) $(BUILD)/cross $(foreach c,$(CONFIGS),$(BUILD)/test-$(c)):
 
 clean:
 	rm -rf $(BUILD)
+
+help:
+	@sed -n 's/^#> \{0,1\}//p' Makefile
 include port/target.mk

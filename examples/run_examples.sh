@@ -40,14 +40,25 @@ order() { # table order of the IDs
     fi
 }
 
-echo "edmi-sim: the paper's three examples, ${#runs[@]} runs, $jobs at a time ..."
+echo "edmi-sim: the paper's three examples, ${#runs[@]} runs, $jobs at a time (a line as each ends):"
 t0=$(date +%s.%N)
-export sim out
+total=${#runs[@]}
+export sim out total
 # shellcheck disable=SC2016 # the script is expanded by the inner bash
 printf '%s\n' "${runs[@]}" | xargs -r -P "$jobs" -L 1 bash -c '
     id=$1; shift
+    a=$(date +%s.%N)
     "$sim" "$@" --row --quiet >"$out/$id.row" 2>"$out/$id.err"
-    echo $? >"$out/$id.rc"' run
+    rc=$?
+    b=$(date +%s.%N)
+    scene=${1##*/}
+    shift
+    { flock 9
+      echo $rc >"$out/$id.rc"
+      n=$(find "$out" -name "*.rc" | wc -l)
+      awk -v n="$n" -v t="$total" -v s="${scene%.scene} $*" -v a="$a" -v b="$b" -v rc="$rc" \
+          "BEGIN { printf \"  [%2d/%d] %-60s %6.1f s%s\n\", n, t, s, b - a, rc ? \" FAILED\" : \"\" }"
+    } 9>"$out/.lock"' run
 t1=$(date +%s.%N)
 
 echo
