@@ -217,7 +217,7 @@ test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLA
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)') \
 	    'bash tests/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/check_flags.sh clang') \
-	    'bash tests/check_help.sh'
+	    'bash tests/check_help.sh' 'bash tests/check_docs.sh'
 
 # ---- soak: the guard's adversarial scenes for 10^6 steps per case, in both precisions ---------
 # tests/soak.c; the inequality H_n+1 - H_n <= W is checked after every step in tp_q

@@ -926,7 +926,7 @@ static void edmi__mass_residual(const edmi_system *sys, const edmi_real (*q1)[3]
 #endif
 }
 
-/* Linear viscous damper along a link (section "effects" of README): impulse
+/* Linear viscous damper along a link (docs/api.md, "Features"): impulse
  *     I = c (dr . n) n,   dr = r_n+1 - r_n,   n = r_m / |r_m|,
  * is parallel to r_m, so L, J and C are conserved (lemma many-body-momentum), and it removes
  * exactly dr . I / dt = c (dr . n)^2 / dt >= 0 per step (*loss = (c s) s with s = dr . n, so
@@ -2067,7 +2067,7 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
 }
 
 /* ==========================================================================================
- * Energy-safe stepping (README, "Energy-safe stepping").
+ * Energy-safe stepping (docs/energy-safe.md).
  *
  * With the guard on, every stored step satisfies, T being the energy tank (sys->tank),
  *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor + T_n - T_n+1,
@@ -4703,7 +4703,7 @@ edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real 
 edmi_params edmi_default_params(void)
 {
     edmi_params p;
-    p.scheme = EDMI_PM; /* energy-safe: decays, never gains (README, "Energy-safe stepping") */
+    p.scheme = EDMI_PM; /* energy-safe: decays, never gains (docs/energy-safe.md) */
     p.lg_form = EDMI_LG_CLOSED;
     p.lg_alt = EDMI_ALT_JANZ;
     p.l_max = 20;

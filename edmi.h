@@ -47,7 +47,7 @@
  *  The default holds the dense matrix of EDMI_MAX_BODIES bodies, so every system fits; a
  *  banded scene can set what its band needs, e.g. 48 N for a chain of N bodies linked to
  *  neighbours (g = 1, W = 16), and an edmi_add_body() or edmi_add_pair() that would not fit
- *  returns EDMI_ERR_CAPACITY (see README, "solver"). */
+ *  returns EDMI_ERR_CAPACITY (docs/api.md, "Solver"). */
 #ifndef EDMI_MAX_MATRIX
 #define EDMI_MAX_MATRIX (9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES)
 #endif
@@ -108,7 +108,7 @@
 #if defined(__GNUC__) || defined(__clang__)
 #define EDMI_SQRT(x) EDMI_SQRT_BUILTIN_(x)
 #else
-#error "edmi: define EDMI_SQRT(x) for this compiler (see README, porting)"
+#error "edmi: define EDMI_SQRT(x) for this compiler (docs/porting.md)"
 #endif
 #endif
 
@@ -198,7 +198,7 @@ typedef enum edmi_status {
     EDMI_ERR_RANGE           /*!< a result is beyond the precision's range although every
                                   input is finite: a step's scale (|q| + dt |p| / m), its
                                   residual, work or energy balance, an invariant, a
-                                  potential's derivative overflows (README, "Limits") */
+                                  potential's derivative overflows (docs/api.md, "Limits") */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */
@@ -231,7 +231,7 @@ typedef enum edmi_lg_alt {
     EDMI_ALT_PT        /*!< the perturbed trapezoidal force: energy-decaying */
 } edmi_lg_alt;
 
-/** The passivity guard (README, "Energy-safe stepping"). */
+/** The passivity guard (docs/energy-safe.md). */
 typedef enum edmi_guard_mode {
     EDMI_GUARD_AUTO = 0, /*!< on for the energy-decaying schemes GE, PM, PT; off for MP, LG */
     EDMI_GUARD_ON,       /*!< on for every scheme (MP and LG then never gain energy either) */
@@ -259,7 +259,7 @@ typedef struct edmi_params {
                               magnitude of H's terms at the step's end (res.tank_cap): over any
                               window of steps H rises by at most the work plus the tank's
                               level at its start. 256 by default; 0 is the per-step guarantee
-                              H_n+1 - H_n <= work (README, "Energy-safe stepping") */
+                              H_n+1 - H_n <= work (docs/energy-safe.md) */
     int substep_levels;  /*!< k in 0..EDMI_MAX_SUBSTEP_LEVELS: a step that fails after its
                               input was accepted (Newton: singular, l_max reached, diverged;
                               the guard; a result beyond the range) is taken again as two
@@ -568,7 +568,7 @@ typedef struct edmi_step_result {
     int iterations;      /*!< Newton corrections taken */
     edmi_stop stop;      /*!< why Newton stopped (meaningful when the step succeeded) */
     edmi_real residual;  /*!< final scaled residual of Newton's iterate (dimensionless, see
-                              README; before the guard's rounding of the stored state) */
+                              docs/api.md; before the guard's rounding of the stored state) */
     edmi_real residual0; /*!< scaled residual of the predictor */
     edmi_real correction; /*!< last Newton correction in the same scaled norm */
     int lg_switches;     /*!< LG quotient: links evaluated with the alternate force, last iterate */
@@ -577,8 +577,8 @@ typedef struct edmi_step_result {
     /* The discrete energy balance of the stored states,
      *     H_n+1 - H_n = work_ext + work_anchor - diss_scheme - diss_damping - diss_guard,
      * exact up to the Newton residual. With the guard on, H_n+1 - H_n <= work_ext +
-     * work_anchor + T_n - T_n+1 holds exactly for the stored values and the tank (README,
-     * "Energy-safe stepping"). */
+     * work_anchor + T_n - T_n+1 holds exactly for the stored values and the tank
+     * (docs/energy-safe.md). */
     edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n), correctly
                                  rounded from the stored positions */
     edmi_real work_anchor;  /*!< work the moving anchors did on the system,

@@ -5,7 +5,7 @@
  * l_max = 20; LG uses the paper's quotient with the Janz alternate and tol_Q = 1e-8.
  * Prints (a) H0, J0; (b) the reference solution (MP, dt = 1e-6, T = 10); (c) the table
  * "accuracy-stiff-new-Hookean-model" next to the published values; (d) energy and momentum
- * drift per scheme at dt = 1e-3. Tables are Markdown so they can be pasted into README.md.
+ * drift per scheme at dt = 1e-3. Tables are Markdown so they can be pasted into docs/paper.md.
  * Hosted code: stdio, libm and a wall clock are fine here (not in the library). */
 #define _POSIX_C_SOURCE 199309L /* clock_gettime */
 #include <math.h>

@@ -9,7 +9,7 @@
  * The options change the layout of edmi_system and edmi_workspace, so a translation unit
  * compiled without them sees other sizes: check once at start-up with
  *     if (!EDMI_CONFIG_MATCHES()) { ... a build error, stop ... }
- * Each value below is the default; the costs are those of edmi.h (README, "Sizing").
+ * Each value below is the default; the costs are those of edmi.h (docs/sizing.md).
  */
 #ifndef EDMI_CONFIG_H
 #define EDMI_CONFIG_H
@@ -31,11 +31,11 @@
 
 /* The general mass matrix: the largest body-index gap of a coupled mass (1 for consistent
  * masses of bar elements along a chain); N G reals in edmi_system. 0 compiles it out
- * (README, "The general mass matrix"). */
+ * (docs/mass-matrix.md). */
 /* #define EDMI_MAX_MASS_GAP 0 */
 
 /* Reals in the Newton matrix: the dense 9 N^2 by default; a chain of N bodies needs 48 N
- * (README, "Solver"). */
+ * (docs/api.md, "Solver"). */
 /* #define EDMI_MAX_MATRIX (9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES) */
 
 /* Port hooks: the square root (default: the compiler builtin, one instruction with an FPU and

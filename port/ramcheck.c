@@ -1,4 +1,4 @@
-/* ramcheck: the RAM formula of README.md ("Sizing") against sizeof (`make check-ram`).
+/* ramcheck: the RAM formula of docs/sizing.md against sizeof (`make check-ram`).
  *
  * Built once per (EDMI_REAL, EDMI_MAX_BODIES, EDMI_MAX_LINKS, EDMI_MAX_DAMPERS) setting. The
  * formula is checked twice: at compile time (a negative array size stops the build, so a
@@ -75,7 +75,7 @@
 /* then whose kept factors they are (a pointer) and two ints */
 #define TGT_WORKSPACE TGT_UP(TGT_UP(TGT_WS0, TGT_P) + TGT_P + 8u, TGT_RP)
 
-/* The closed forms of the README: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
+/* The closed forms of docs/sizing.md: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
  * K + R M + b N + l L + d D + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
  *   float:  K = 128 with 4-byte pointers and 1-byte enums (arm-none-eabi), 136 with 4-byte
  *           enums, 148 with 8-byte pointers; b = 196, d = 44; l = 312 with 4-byte pointers,
@@ -148,7 +148,7 @@ int main(void)
     check("sizeof(edmi_link_ws)", (unsigned long)sizeof(edmi_link_ws), TGT_LINK_WS);
     check("sizeof(edmi_system)", (unsigned long)sizeof(edmi_system), TGT_SYSTEM);
     check("sizeof(edmi_workspace)", (unsigned long)sizeof(edmi_workspace), TGT_WORKSPACE);
-    check("system + workspace (README closed form)", TGT_TOTAL, TGT_CLOSED);
+    check("system + workspace (docs/sizing.md closed form)", TGT_TOTAL, TGT_CLOSED);
     printf("%d passed, %d failed\n", n_pass, n_fail);
     return n_fail == 0 ? 0 : 1;
 }

@@ -19,7 +19,7 @@
 #   make haptic-target  the 1 kHz virtual coupling of examples/haptic.c on the Cortex-M4F
 #                       (float): instructions per tick, mean and worst, guard actions,
 #                       failures, passivity of every tick (port/haptic_target.c)
-#   make check-ram      the RAM formula of README.md ("Sizing") against sizeof
+#   make check-ram      the RAM formula of docs/sizing.md against sizeof
 #   make check-port     check-ram, plus port/riscv/sqrt.c against the host's libm
 #   make smoke-target   the target runner itself: a pass, a failed check, a fault, a hang and
 #                       a stack overflow must give exit statuses 0, 1, 3, 124 and 4

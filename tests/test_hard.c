@@ -463,7 +463,7 @@ static void hard_wall(void)
 }
 
 /* ---- (f) a user potential the guard failed on ------------------------------------------------
- * V = k/2 (r - r0)^2, k 50, r0 1, split as README asks (V_c = V_+ = V, V_e = V_- = 0), with its
+ * V = k/2 (r - r0)^2, k 50, r0 1, split as docs/energy-safe.md asks (V_c = V_+ = V, V_e = V_- = 0), with its
  * exact divided difference (tests/passive.c, tp_user_harmonic); one body m 1 at (1.3, 0, 0), p (0, 2, 0), anchored at the origin,
  * dt 1e-3, PT and GE with the guard: every step failed with EDMI_ERR_PASSIVITY from step ~60
  * (double) / ~120 (float) of an ordinary state before the guard's rework; 2000 steps now all

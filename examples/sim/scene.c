@@ -1,6 +1,6 @@
 /*
  * scene.c: parser of the edmi text scene format (host side; see scene.h and
- * examples/README-scenes.md for the format).
+ * docs/simulator.md for the format).
  *
  * The parser checks everything edmi_load_scene() would refuse, one line at a time, so that
  * the message can name the line: counts of fields, numbers, finiteness, signs, indices,

@@ -2,7 +2,7 @@
  * scene.h: the edmi text scene format, parsed into plain edmi data (host side only).
  *
  * A scene file declares bodies and exactly the effects that act on them, one per line
- * (format: examples/README-scenes.md). sim_scene_parse() turns it into the arrays an
+ * (format: docs/simulator.md). sim_scene_parse() turns it into the arrays an
  * edmi_scene points to, plus the force ports and the run settings the file may declare
  * (scheme, dt, t_end, tolerances). Nothing here is needed on a target: a firmware keeps the
  * same scene as static const data (see `edmi-sim SCENE --emit-c`).

@@ -18,7 +18,7 @@ jobs=${5:-2}
 quick=${STUDY_QUICK:-0}
 S=examples/scenes
 mkdir -p "$out/cg" "$out/dat" "$fig"
-command -v valgrind >/dev/null || { echo "study: valgrind not found (it counts the instructions; see README's setup line)" >&2; exit 1; }
+command -v valgrind >/dev/null || { echo "study: valgrind not found (it counts the instructions; make help lists the packages)" >&2; exit 1; }
 have_gnuplot=1
 command -v gnuplot >/dev/null || have_gnuplot=0
 start=$(date +%s)
@@ -145,12 +145,12 @@ for f in "$out"/long_*.dat; do
 done | tee "$out/long_summary.txt"
 
 if [ "$quick" != 1 ]; then
-    # the full tables, committed next to the study (README quotes their summary)
+    # the full tables, committed next to the study (docs/study.md quotes their summary)
     {
         echo "# Work-precision study: the full tables"
         echo
         echo "Written by \`make study\` ($(date -u +%Y-%m-%d), $(uname -m), $(gcc --version | sed -n 1p));"
-        echo "see README.md, \"What accuracy costs\", for what each column means and how it is measured."
+        echo "see docs/study.md for what each column means and how it is measured."
         echo
         cat "$out/tables.md"
         echo

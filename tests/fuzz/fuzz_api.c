@@ -830,7 +830,7 @@ static void fz_op_scene(fz_in *in, int *n_user)
     fz_unchanged(st, "edmi_load_scene", &fz_sys, &fz_before, 0, 0, 0);
 }
 
-/* Firmware writes the state directly (README: state access); sometimes it corrupts a count. */
+/* Firmware writes the state directly (docs/api.md: state access); sometimes it corrupts a count. */
 static void fz_op_poke(fz_in *in)
 {
     unsigned which = fz_u8(in) % 16u;

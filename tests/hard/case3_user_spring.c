@@ -1,5 +1,5 @@
 /* Issue 21 case 3: stuck for ever where smaller steps would pass? A user potential
- * V = k/2 (r - r0)^2 (k 50, r0 1) split as README asks (V_c = V_+ = V, V_e = V_- = 0, so
+ * V = k/2 (r - r0)^2 (k 50, r0 1) split as docs/energy-safe.md asks (V_c = V_+ = V, V_e = V_- = 0, so
  * V_+ >= 0 >= V_-; exact divided difference), one body m 1 at (1.3, 0, 0), p (0, 2, 0),
  * anchored at the origin, dt 1e-3, PT and GE (guard AUTO = on), with and without fallback;
  * against edmi_pot_harmonic(50, 1). Counts statuses, fallbacks, OK-but-unsolved steps, and

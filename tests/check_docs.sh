@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# The documentation against the code (`make test`):
+#  1. README.md is at most 400 lines;
+#  2. each ```c block of README.md whose first line is the first line of an examples/*.c file
+#     is that file, byte for byte (the recipes compile because `make` builds the files);
+#  3. each function declaration of README's "Every call it makes" block is edmi.h's, up to
+#     whitespace, and each EDMI_ macro it names is defined there;
+#  4. every relative link in README.md and docs/*.md names an existing file.
+# Last line: "N passed, N failed".
+set -u
+pass=0 fail=0
+ok() { echo "ok   $1"; pass=$((pass + 1)); }
+bad() { echo "FAIL $1"; fail=$((fail + 1)); }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+n=$(wc -l <README.md)
+if [ "$n" -le 400 ]; then ok "README.md: $n lines (at most 400)"; else bad "README.md: $n lines, more than 400"; fi
+
+# 2. Split README's ```c blocks into files.
+awk -v d="$tmp" '/^```c$/ { k++; f = d "/block" k ".c"; inb = 1; next }
+                 /^```$/ && inb { inb = 0; close(f); next }
+                 inb { print > f }' README.md
+matched=0
+for b in "$tmp"/block*.c; do
+    [ -e "$b" ] || continue
+    first=$(head -n 1 "$b")
+    for ex in examples/*.c; do
+        if [ "$(head -n 1 "$ex")" = "$first" ]; then
+            matched=$((matched + 1))
+            if cmp -s "$b" "$ex"; then ok "README's program is $ex byte for byte"
+            else bad "README's program starting '$first' differs from $ex: $(diff "$ex" "$b" | head -3)"; fi
+        fi
+    done
+done
+[ "$matched" -ge 2 ] || bad "README: $matched example programs found, expected at least 2 (quickstart, haptic_loop)"
+
+# 3. The declarations block: the ```c block holding "edmi_status    edmi_init(".
+norm() { tr -s ' \n\t' ' ' | sed 's/ *( */(/g; s/ *) */)/g; s/ *, */, /g; s/ *; */;/g; s/\* /*/g'; }
+hdr=$(norm <edmi.h)
+decl=$(grep -l 'edmi_init(edmi_system' "$tmp"/block*.c | head -n 1)
+if [ -z "$decl" ]; then
+    bad "README: no declarations block"
+else
+    # join declarations that span lines, one per line
+    awk '/^#define/ { print; next } { buf = buf " " $0 } /;$/ { print buf; buf = "" }' "$decl" >"$tmp/decls"
+    while IFS= read -r d; do
+        case $d in
+        '#define'*)
+            m=$(awk '{ print $2 }' <<<"$d"); m=${m%%(*}
+            if grep -q "^#define $m\b" edmi.h; then ok "README names $m, defined in edmi.h"; else bad "README names $m, not in edmi.h"; fi ;;
+        *)
+            nd=$(norm <<<"$d" | sed 's/^ //')
+            if grep -qF -- "$nd" <<<"$hdr"; then ok "README declares '$(sed 's/(.*//' <<<"$nd")(...)' as edmi.h does"
+            else bad "README's declaration not in edmi.h: $nd"; fi ;;
+        esac
+    done <"$tmp/decls"
+fi
+
+# 4. Relative links.
+for f in README.md docs/*.md; do
+    dir=$(dirname "$f")
+    grep -o '](\([^)#:]*\)\(#[^)]*\)\?)' "$f" | sed 's/^](//; s/)$//; s/#.*//' | grep . | sort -u |
+    while IFS= read -r l; do
+        if [ -e "$dir/$l" ]; then echo "ok"; else echo "FAIL $f links to $l, which does not exist"; fi
+    done
+done >"$tmp/links"
+nl=$(grep -c '^ok$' "$tmp/links"); nb=$(grep -c '^FAIL' "$tmp/links")
+grep '^FAIL' "$tmp/links"
+pass=$((pass + nl)); fail=$((fail + nb))
+echo "ok   $nl relative links in README.md and docs/ name existing files"
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
