@@ -9,6 +9,19 @@
  * generalized Eyre (GE), perturbed mid-point (PM) and perturbed trapezoidal (PT), for bodies
  * coupled by pair potentials V(d) and bodies tied to fixed anchors.
  *
+ * Read it in this order (README.md has three complete programs, docs/api.md the API by
+ * group):
+ *   Configuration    EDMI_REAL and the capacities EDMI_MAX_*: -D or an EDMI_USER_CONFIG file
+ *   Types            status codes, parameters, potentials, bodies, links, the system, scenes,
+ *                    what a step reports (edmi_step_result), invariants
+ *   Build a system   edmi_default_params, edmi_init, edmi_add_*, edmi_set_*, edmi_move_anchor,
+ *                    edmi_load_scene, the potential constructors edmi_pot_*
+ *   Step it          edmi_step
+ *   Measure it       edmi_invariants_of, edmi_pot_eval, edmi_pot_divdiff
+ *   Verify it        edmi_residual, edmi_tangent
+ *   Misc             edmi_status_name, edmi_is_double_precision, EDMI_CONFIG_MATCHES
+ *   (the end)        layouts for sizing only: the workspace's fields, which no caller touches
+ *
  * Version 0.1.0.
  * SPDX-License-Identifier: MIT
  * Copyright (c) 2026 the edmi authors. The MIT licence text is in LICENSE; this notice and
@@ -410,39 +423,6 @@ typedef struct edmi_system {
     int kept_bodies, kept_links;
 } edmi_system;
 
-/** Per-link scratch: the start-of-step quantities a link's force needs, computed once per
- *  step, and the link's tangent block. */
-typedef struct edmi_link_ws {
-    edmi_real r0[3]; /* link vector r_n = q_A,n - q_B,n (or - anchor) */
-    edmi_real d0;    /* d_n = |r_n| */
-    edmi_real v0;    /* V(d_n) */
-    edmi_real dv0;   /* V'(d_n) */
-    edmi_real dve0;  /* V_e'(d_n) */
-    edmi_real d3p0;  /* V_+'''(d_n) */
-    edmi_real d3m0;  /* V_-'''(d_n) */
-    edmi_real m0;    /* the magnitude of V's terms at d_n (the guard's plain error bound) */
-    edmi_real d1, v1, m1; /* d_n+1, V(d_n+1) and its magnitude at the last evaluation, when
-                             the scheme evaluated V there (have1) */
-    edmi_real beta;    /* beta of the last residual evaluation (energy balance, guard) */
-    edmi_real noise;   /* LG quotient: its cancellation error in the link's force */
-    edmi_real x1[3];   /* anchor links: the anchor at the end of the step */
-    edmi_real f[3];    /* mean force on the second end over the step (sys->link_force) */
-    edmi_real gamma;   /* the tangent block d f / d r_{n+1} = dt (beta/2 I + gamma r_m u^T) */
-    edmi_real rm[3];   /* of the last evaluation, built only where a correction needs it */
-    edmi_real u[3];
-    /* the link's terms of the step's energy balance: V change and scheme work (value and
-     * error of each as a double-word pair), error bound, size; bal_on: any end moved */
-    edmi_real bal_dv[2], bal_sc[2], bal_err, bal_size;
-    /* at the end of the last balance: the link's two ends, the potential's parameters,
-     * |r|^2 and V (double-word) and V's error bound, reused when the next step starts there */
-    edmi_real end_ends[6], end_pot[2], end_s[2], end_v[2], end_e;
-    /* substeps (edmi_params.substep_levels): the mean force summed over them, and a moving
-     * anchor's start and end over the whole step */
-    edmi_real fsum[3], xs[3], xt[3];
-    int bal_on;
-    int have1;
-    int end_kind;
-} edmi_link_ws;
 
 /** A scene as plain constant data (it can live in flash): the bodies, links and dampers
  *  a system starts from, its field and parameters. Load it with edmi_load_scene(). */
@@ -466,33 +446,7 @@ typedef struct edmi_scene {
  *  corrections (the system records where they are): the same calls give the same results
  *  on every target, and a step's last bits can depend on whether the workspace served
  *  another system since. */
-typedef struct edmi_workspace {
-    edmi_real q1[EDMI_MAX_BODIES][3]; /* iterate q_{n+1,(l)} */
-    edmi_real p1[EDMI_MAX_BODIES][3]; /* iterate p_{n+1,(l)} */
-    edmi_real rq[EDMI_MAX_BODIES][3]; /* residual R_q */
-    edmi_real rp[EDMI_MAX_BODIES][3]; /* residual R_p */
-    edmi_real sq[EDMI_MAX_BODIES];    /* per-body position scale of the stopping test */
-    edmi_real sp[EDMI_MAX_BODIES];    /* per-body momentum scale of the stopping test */
-    edmi_real dp[EDMI_MAX_BODIES][3]; /* Newton correction of p */
-    edmi_real h[EDMI_MAX_BODIES];     /* dt / (2 m) per body, the Newton matrix's row scales */
-    edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
-    edmi_real q0[EDMI_MAX_BODIES][3]; /* substeps: the step's start, restored if they fail */
-    edmi_real p0[EDMI_MAX_BODIES][3];
-    edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
-    edmi_link_ws lw[EDMI_MAX_LINKS];
-    edmi_real kd[EDMI_DAMPER_SLOTS_][9]; /* damper tangent blocks */
-    edmi_real kend[EDMI_MAX_BODIES][5];  /* p and |p|^2 (double-word) at the last balance's end */
-    int row[3 * EDMI_MAX_BODIES];      /* the Newton matrix's row offsets */
-    int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
-    int n_pair;
-    int piv[3 * EDMI_MAX_BODIES];      /* the factored Newton matrix's pivot rows */
-    int kb, upper;                     /* its lower and upper bandwidths */
-    /* The factors kept for a system's next step (edmi_step): whose they are (set by the
-     * step that stored them, cleared by any call that writes the matrix), whether this call
-     * found them kept, and whether it factored. */
-    const void *kept_sys;
-    int kept, fresh;
-} edmi_workspace;
+typedef struct edmi_workspace edmi_workspace; /* its layout: at the end of this header */
 
 /** Why Newton stopped (a successful step). Every stop but EDMI_STOP_FALLBACK leaves an
  *  iterate that solves the scheme's equations body by body to the bound EDMI_SOLVED (below):
@@ -815,6 +769,75 @@ int edmi_config_matches(unsigned long system_size, unsigned long workspace_size)
 /** edmi_config_matches() with this translation unit's sizes. */
 #define EDMI_CONFIG_MATCHES() \
     edmi_config_matches((unsigned long)sizeof(edmi_system), (unsigned long)sizeof(edmi_workspace))
+
+/* ==========================================================================================
+ * Layouts for sizing only. A caller allocates an edmi_workspace (static, or on a stack that
+ * can hold sizeof(edmi_workspace)) and passes it to edmi_step(); nothing here is API: read or
+ * write none of these fields. Their sizes are in docs/sizing.md.
+ * ======================================================================================== */
+
+/* Per-link scratch: the start-of-step quantities a link's force needs, computed once per
+ * step, and the link's tangent block. */
+typedef struct edmi_link_ws {
+    edmi_real r0[3]; /* link vector r_n = q_A,n - q_B,n (or - anchor) */
+    edmi_real d0;    /* d_n = |r_n| */
+    edmi_real v0;    /* V(d_n) */
+    edmi_real dv0;   /* V'(d_n) */
+    edmi_real dve0;  /* V_e'(d_n) */
+    edmi_real d3p0;  /* V_+'''(d_n) */
+    edmi_real d3m0;  /* V_-'''(d_n) */
+    edmi_real m0;    /* the magnitude of V's terms at d_n (the guard's plain error bound) */
+    edmi_real d1, v1, m1; /* d_n+1, V(d_n+1) and its magnitude at the last evaluation, when
+                             the scheme evaluated V there (have1) */
+    edmi_real beta;    /* beta of the last residual evaluation (energy balance, guard) */
+    edmi_real noise;   /* LG quotient: its cancellation error in the link's force */
+    edmi_real x1[3];   /* anchor links: the anchor at the end of the step */
+    edmi_real f[3];    /* mean force on the second end over the step (sys->link_force) */
+    edmi_real gamma;   /* the tangent block d f / d r_{n+1} = dt (beta/2 I + gamma r_m u^T) */
+    edmi_real rm[3];   /* of the last evaluation, built only where a correction needs it */
+    edmi_real u[3];
+    /* the link's terms of the step's energy balance: V change and scheme work (value and
+     * error of each as a double-word pair), error bound, size; bal_on: any end moved */
+    edmi_real bal_dv[2], bal_sc[2], bal_err, bal_size;
+    /* at the end of the last balance: the link's two ends, the potential's parameters,
+     * |r|^2 and V (double-word) and V's error bound, reused when the next step starts there */
+    edmi_real end_ends[6], end_pot[2], end_s[2], end_v[2], end_e;
+    /* substeps (edmi_params.substep_levels): the mean force summed over them, and a moving
+     * anchor's start and end over the whole step */
+    edmi_real fsum[3], xs[3], xt[3];
+    int bal_on;
+    int have1;
+    int end_kind;
+} edmi_link_ws;
+
+/* Newton's scratch space (typedef above). */
+struct edmi_workspace {
+    edmi_real q1[EDMI_MAX_BODIES][3]; /* iterate q_{n+1,(l)} */
+    edmi_real p1[EDMI_MAX_BODIES][3]; /* iterate p_{n+1,(l)} */
+    edmi_real rq[EDMI_MAX_BODIES][3]; /* residual R_q */
+    edmi_real rp[EDMI_MAX_BODIES][3]; /* residual R_p */
+    edmi_real sq[EDMI_MAX_BODIES];    /* per-body position scale of the stopping test */
+    edmi_real sp[EDMI_MAX_BODIES];    /* per-body momentum scale of the stopping test */
+    edmi_real dp[EDMI_MAX_BODIES][3]; /* Newton correction of p */
+    edmi_real h[EDMI_MAX_BODIES];     /* dt / (2 m) per body, the Newton matrix's row scales */
+    edmi_real rhs[3 * EDMI_MAX_BODIES]; /* right-hand side, then the correction of q */
+    edmi_real q0[EDMI_MAX_BODIES][3]; /* substeps: the step's start, restored if they fail */
+    edmi_real p0[EDMI_MAX_BODIES][3];
+    edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
+    edmi_link_ws lw[EDMI_MAX_LINKS];
+    edmi_real kd[EDMI_DAMPER_SLOTS_][9]; /* damper tangent blocks */
+    edmi_real kend[EDMI_MAX_BODIES][5];  /* p and |p|^2 (double-word) at the last balance's end */
+    int row[3 * EDMI_MAX_BODIES];      /* the Newton matrix's row offsets */
+    int order[EDMI_MAX_LINKS];         /* link indices: the n_pair pair links, then anchors */
+    int n_pair;
+    int piv[3 * EDMI_MAX_BODIES];      /* the factored Newton matrix's pivot rows */
+    int kb, upper;                     /* its lower and upper bandwidths */
+    /* The factors kept for a system's next step (edmi_step): whose they are (set by the
+     * step that stored them, cleared by any call that writes the matrix), whether this call
+     * found them kept, and whether it factored. */
+    const void *kept_sys;
+    int kept, fresh;
+};
 
 #ifdef __cplusplus
 }
