@@ -3,10 +3,10 @@
  * SPDX-License-Identifier: MIT
  * Copyright (c) 2026 the edmi authors (licence text: LICENSE).
  *
- * Follows the paper's order: potentials and their splits (section 3.1, 3.3) -> the five
- * algorithmic forces (section 4.1) -> the Newton predictor multi-corrector (section 3.4)
- * -> invariants (section 2, 4.1). Freestanding: includes only edmi.h (and through it
- * <float.h> and <limits.h>).
+ * One file in sections, in the order a step flows (the contents list below the pragmas):
+ * helpers, potentials, the paper's forces, the residual, the linear solves, Newton, the
+ * passivity guard, the fallback, the step, building, invariants. Freestanding: includes only
+ * edmi.h (and through it <float.h> and <limits.h>).
  */
 #include "edmi.h"
 
@@ -29,8 +29,28 @@
 #pragma GCC optimize("fp-contract=off")
 #endif
 
+/* Contents, in the order a step flows (each section starts with a ==== banner):
+ *   Configuration and helpers     internal constants, finite tests, 3-vectors
+ *   Double-word arithmetic        sums and products to twice the precision (the guard's)
+ *   Potentials                    everything about a potential: values and derivatives, the
+ *                                 splits, divided differences, double-word values, the public
+ *                                 constructors and evaluators (a new potential touches only this)
+ *   The paper's algorithmic forces  beta and Lambda per scheme, and their tangents
+ *   The mass matrix               M's products and its Cholesky factor (EDMI_MAX_MASS_GAP > 0)
+ *   Residual and consistent tangent  links, then each effect (dampers, ports, the field)
+ *   Linear solves                 3x3, one link, two bodies, banded LU; the Newton update
+ *   Newton                        scales, the solved test, the predictor multi-corrector
+ *   The passivity guard           the change of H and its bound, the energy tank, the
+ *                                 certificate, the rounding, impulse and drag, a step's end
+ *   One attempt, the fallback and substeps
+ *   The step                      edmi_step, edmi_residual, edmi_tangent
+ *   Building a system, and scenes the validator, edmi_init, edmi_add_*, edmi_load_scene
+ *   Invariants                    H, K, V, J, L, C(t)
+ *   Misc                          status names, the configuration check
+ */
+
 /* ==========================================================================================
- * Small helpers
+ * Configuration and helpers
  * ======================================================================================== */
 
 #define EDMI__ZERO EDMI_R(0.0)
@@ -161,12 +181,6 @@ static void edmi__copy3(const edmi_real a[3], edmi_real out[3])
     out[2] = a[2];
 }
 
-/* ==========================================================================================
- * Potentials, their convex/concave and super-convex/super-concave splits (eqs. convex-split,
- * super-convex-split), and closed-form divided differences [V(d1)-V(d0)]/(d1-d0).
- * Each fills derivatives 0..4; no pow(), no numeric differentiation.
- * ======================================================================================== */
-
 static EDMI__INLINE void edmi__zero5(edmi_real a[5])
 {
     a[0] = a[1] = a[2] = a[3] = a[4] = EDMI__ZERO;
@@ -177,6 +191,247 @@ static EDMI__INLINE void edmi__copy5(const edmi_real a[5], edmi_real out[5])
     int i;
     for (i = 0; i < 5; i++)
         out[i] = a[i];
+}
+
+/* The validator (section "Building a system, and scenes") is what every entry point calls
+ * first; the step needs it before its definition. */
+static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt);
+
+/* ==========================================================================================
+ * Double-word arithmetic
+ *
+ * A real number held as the unevaluated sum hi + lo of two edmi_reals (|lo| <= ulp(hi)/2),
+ * about twice the working precision's digits. The passivity guard evaluates the change of H in
+ * it, and the potentials their values. Algorithms and error bounds (u = eps/2): Joldes,
+ * Muller, Popescu, "Tight and rigorous error bounds for basic building blocks of double-word
+ * arithmetic", ACM TOMS 44 (2017): 2Sum and Fast2Sum exact; TwoProd exact (fused multiply-
+ * add, or Veltkamp/Dekker splitting, exact barring overflow and underflow); DW+DW <= 3u^2
+ * (the sloppy sum of two of the same sign too), DW+FP <= 2u^2, DW*FP <= 2u^2, DW*DW <= 7u^2,
+ * DW/FP <= 3u^2, DW/DW <= 15u^2 + 56u^3 relative; the square root one Newton step from
+ * sqrt(hi), <= 4u^2 relative.
+ * ======================================================================================== */
+
+typedef struct edmi__dw {
+    edmi_real hi, lo;
+} edmi__dw;
+
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+#define EDMI__SPLIT EDMI_R(134217729.0) /* 2^27 + 1 */
+#else
+#define EDMI__SPLIT EDMI_R(4097.0) /* 2^12 + 1 */
+#endif
+
+static edmi__dw edmi__dw_of(edmi_real x)
+{
+    edmi__dw r;
+    r.hi = x;
+    r.lo = EDMI__ZERO;
+    return r;
+}
+
+/* The double-word pair stored as x[0] (hi), x[1] (lo). */
+static edmi__dw edmi__dw_pair(const edmi_real x[2])
+{
+    edmi__dw r;
+    r.hi = x[0];
+    r.lo = x[1];
+    return r;
+}
+
+/* a + b exactly, for |a| >= |b| (or a == 0). */
+static EDMI__INLINE edmi__dw edmi__fast_two_sum(edmi_real a, edmi_real b)
+{
+    edmi__dw r;
+    r.hi = a + b;
+    r.lo = b - (r.hi - a);
+    return r;
+}
+
+/* a + b exactly (Knuth's 2Sum). */
+static EDMI__INLINE edmi__dw edmi__two_sum(edmi_real a, edmi_real b)
+{
+    edmi__dw r;
+    edmi_real a1, b1;
+    r.hi = a + b;
+    a1 = r.hi - b;
+    b1 = r.hi - a1;
+    r.lo = (a - a1) + (b - b1);
+    return r;
+}
+
+/* a * b exactly. */
+static EDMI__INLINE edmi__dw edmi__two_prod(edmi_real a, edmi_real b)
+{
+    edmi__dw r;
+    r.hi = a * b;
+#ifdef EDMI_FMA
+    r.lo = EDMI_FMA(a, b, -r.hi);
+#else
+    {
+        edmi_real ca = EDMI__SPLIT * a, cb = EDMI__SPLIT * b;
+        edmi_real ah = ca - (ca - a), al = a - ah, bh = cb - (cb - b), bl = b - bh;
+        r.lo = ((ah * bh - r.hi) + ah * bl + al * bh) + al * bl;
+    }
+#endif
+    return r;
+}
+
+static EDMI__INLINE edmi__dw edmi__dw_add(edmi__dw x, edmi__dw y)
+{
+    edmi__dw s = edmi__two_sum(x.hi, y.hi), t = edmi__two_sum(x.lo, y.lo), v;
+    v = edmi__fast_two_sum(s.hi, s.lo + t.hi);
+    return edmi__fast_two_sum(v.hi, t.lo + v.lo);
+}
+
+/* x + y, x.hi and y.hi of the same sign (JMP's SloppyDWPlusDW: 11 operations, not 20). */
+static EDMI__INLINE edmi__dw edmi__dw_add_same(edmi__dw x, edmi__dw y)
+{
+    edmi__dw s = edmi__two_sum(x.hi, y.hi);
+    return edmi__fast_two_sum(s.hi, s.lo + (x.lo + y.lo));
+}
+
+/* x + y for a real y (JMP's DWPlusFP). */
+static EDMI__INLINE edmi__dw edmi__dw_add_r(edmi__dw x, edmi_real y)
+{
+    edmi__dw s = edmi__two_sum(x.hi, y);
+    return edmi__fast_two_sum(s.hi, x.lo + s.lo);
+}
+
+static EDMI__INLINE edmi__dw edmi__dw_neg(edmi__dw x)
+{
+    x.hi = -x.hi;
+    x.lo = -x.lo;
+    return x;
+}
+
+static EDMI__INLINE edmi__dw edmi__dw_sub(edmi__dw x, edmi__dw y) { return edmi__dw_add(x, edmi__dw_neg(y)); }
+
+/* x + y where one of them is often exactly 0 (a sum's first term, a step without work): then
+ * the other, which is what edmi__dw_add returns for finite x and y but for the sign of a zero.
+ * A double-word number (hi = fl(hi + lo), as every operation here returns one) whose hi is 0
+ * has lo = 0, and with an operand (0, 0) each TwoSum and Fast2Sum in edmi__dw_add returns its
+ * other operand exactly. */
+static EDMI__INLINE edmi__dw edmi__dw_add_z(edmi__dw x, edmi__dw y)
+{
+    return y.hi == EDMI__ZERO ? x : x.hi == EDMI__ZERO ? y : edmi__dw_add(x, y);
+}
+
+static EDMI__INLINE edmi__dw edmi__dw_mul_r(edmi__dw x, edmi_real y)
+{
+    edmi__dw c = edmi__two_prod(x.hi, y), t = edmi__fast_two_sum(c.hi, x.lo * y);
+    return edmi__fast_two_sum(t.hi, t.lo + c.lo);
+}
+
+static EDMI__INLINE edmi__dw edmi__dw_mul(edmi__dw x, edmi__dw y)
+{
+    edmi__dw c = edmi__two_prod(x.hi, y.hi);
+    return edmi__fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
+}
+
+static edmi__dw edmi__dw_div(edmi__dw x, edmi__dw y)
+{
+    edmi_real th = x.hi / y.hi;
+    edmi__dw r = edmi__dw_mul_r(y, th);
+    return edmi__fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
+}
+
+/* x / y for a real y (JMP's DWDivFP3). */
+static edmi__dw edmi__dw_div_r(edmi__dw x, edmi_real y)
+{
+    edmi_real th = x.hi / y;
+    edmi__dw p = edmi__two_prod(th, y);
+    return edmi__fast_two_sum(th, (((x.hi - p.hi) - p.lo) + x.lo) / y);
+}
+
+static edmi__dw edmi__dw_sqrt(edmi__dw x)
+{
+    edmi_real s;
+    edmi__dw p;
+    if (!(x.hi > EDMI__ZERO))
+        return edmi__dw_of(EDMI__ZERO);
+    s = EDMI_SQRT(x.hi);
+    p = edmi__two_prod(s, s);
+    return edmi__fast_two_sum(s, (((x.hi - p.hi) - p.lo) + x.lo) / (EDMI_R(2.0) * s));
+}
+
+static edmi_real edmi__dw_real(edmi__dw x) { return x.hi + x.lo; }
+
+/* |v|^2 of a double-word vector (a sum of squares: sloppy sums). */
+static edmi__dw edmi__dw_sq3(const edmi__dw v[3])
+{
+    edmi__dw s = edmi__dw_mul(v[0], v[0]);
+    s = edmi__dw_add_same(s, edmi__dw_mul(v[1], v[1]));
+    return edmi__dw_add_same(s, edmi__dw_mul(v[2], v[2]));
+}
+
+/* a - b exactly, per component. */
+static void edmi__dw_diff3(const edmi_real a[3], const edmi_real b[3], edmi__dw out[3])
+{
+    out[0] = edmi__two_sum(a[0], -b[0]);
+    out[1] = edmi__two_sum(a[1], -b[1]);
+    out[2] = edmi__two_sum(a[2], -b[2]);
+}
+
+/* |a|^2 of a real vector, exactly up to the final double-word roundings. */
+static edmi__dw edmi__dw_norm2(const edmi_real a[3])
+{
+    edmi__dw s = edmi__two_prod(a[0], a[0]);
+    s = edmi__dw_add_same(s, edmi__two_prod(a[1], a[1]));
+    return edmi__dw_add_same(s, edmi__two_prod(a[2], a[2]));
+}
+
+/* f . (a - b) k^2 with a - b formed exactly and k a power of two (exact). */
+static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const edmi_real b[3],
+                              edmi_real k)
+{
+    edmi__dw d[3], s;
+    int i;
+    edmi__dw_diff3(a, b, d);
+    s = edmi__dw_of(EDMI__ZERO);
+    for (i = 0; i < 3; i++) {
+        d[i].hi = d[i].hi * k * k;
+        d[i].lo = d[i].lo * k * k;
+        s = edmi__dw_add(s, edmi__dw_mul_r(d[i], f[i]));
+    }
+    return s;
+}
+
+/* Error bound of a double-word energy term: |computed - exact| <= EDMI__DW_ERR * M, with M
+ * the term's magnitude (the sum of the absolute values its formula adds). Each term below
+ * passes through at most a dozen double-word operations of <= 15u^2 each; with the growth
+ * of relative errors through the powers (LJ's (s/d)^6 multiplies the error of s/d by 6) the
+ * worst is about 350 u^2 (LJ), so 1024 u^2 = 256 eps^2 leaves a factor 3. Underflow makes
+ * TwoProd inexact below ~2^p REAL_MIN, by at most a few subnormal units per product:
+ * EDMI__DW_TINY covers that in a quantity, and each term adds it times every factor the
+ * quantity is multiplied or divided by afterwards (1/2m for a kinetic energy, m for the
+ * field's work, a potential's coefficient and |dV/ds| <= 8 M / s for the squared length s
+ * it is evaluated from). Tiny masses, lengths or momenta thus make the bound large and the
+ * step uncertifiable (EDMI_ERR_PASSIVITY), never wrongly certified (measured: a body of
+ * mass 2e-28 with p ~ 1e-31 in float, whose p^2 underflows to 0). */
+#define EDMI__DW_ERR (EDMI_R(256.0) * EDMI_EPS * EDMI_EPS)
+#define EDMI__DW_TINY (EDMI_R(1024.0) * EDMI__REAL_MIN)
+/* The double-word length's error, relative: 32 u^2 = 8 eps^2 (18 u^2 of the squared length and
+ * its square root, with room). */
+#define EDMI__DW_X (EDMI_R(8.0) * EDMI_EPS * EDMI_EPS)
+
+/* ==========================================================================================
+ * Potentials
+ *
+ * The built-in potentials V(d) of a link length d, each with its convex/concave and
+ * super-convex/super-concave splits (eqs. convex-split, super-convex-split) and derivatives
+ * 0..4 in closed form (no pow(), no numeric differentiation); the dispatch over kinds
+ * (validity, parts, magnitude), the closed-form divided differences [V(d1)-V(d0)]/(d1-d0) LG
+ * uses, V in double-word arithmetic for the guard, and the public constructors and
+ * evaluators. A new potential touches only this section: its kind's case in edmi__pot_valid,
+ * edmi__pot_parts, edmi__divdiff, edmi__pot_span and edmi__pot_dw, and its constructor.
+ * ======================================================================================== */
+
+/* A harmonic spring of rest length 0, V = k/2 d^2 = k/2 |r|^2, is a quadratic function of
+ * the link vector, smooth at d = 0 (a haptic virtual coupling): the only potential a link of
+ * length 0 may have. The forces take its closed forms (edmi__beta_linear). */
+static int edmi__is_linear(const edmi_potential *pot)
+{
+    return pot->kind == EDMI_POT_HARMONIC && pot->b == EDMI__ZERO;
 }
 
 /* V = k/2 (r - r0)^2: convex and super-convex (V'''' = 0), so V_c = V_+ = V. */
@@ -443,12 +698,199 @@ static edmi_status edmi__divdiff(const edmi_potential *pot, edmi_real d0, edmi_r
     }
 }
 
+/* What a potential's coefficient (a/2, a/4, a/6, 4a) multiplies at length d (s = d^2): the
+ * coefficient's own underflow (a near the smallest normals; measured: a = 1.4e-45 in float,
+ * whose a/2 is 0) errs by this many subnormal units. */
+static edmi_real edmi__pot_span(const edmi_potential *pot, edmi_real d, edmi_real s)
+{
+    edmi_real b = pot->b, t;
+    switch (pot->kind) {
+    case EDMI_POT_HARMONIC:
+        return b == EDMI__ZERO ? s : (d + b) * (d + b);
+    case EDMI_POT_QUARTIC:
+        return (s + b * b) * (s + b * b);
+    case EDMI_POT_NEO_HOOKE:
+        return (d + b) * (d + b) * (d + EDMI_R(2.0) * b) / d;
+    case EDMI_POT_LJ:
+        t = b / d;
+        t = t * t * t;
+        return t * t * (t * t + EDMI__ONE);
+    default:
+        return EDMI__ZERO; /* inverse: a itself, exact */
+    }
+}
+
+/* The underflow allowance of V at length d (s = d^2) whose magnitude is m, for the double-word
+ * evaluation and the plain one alike (each formula is a chain of the same products):
+ * underflow in s, amplified by |dV/ds| = |V'| / 2d <= m / s (none for V = a s / 2, whose s
+ * may be 0), in the products after it (the coefficient a, over d for neo-Hooke and inverse)
+ * and in the coefficient (edmi__pot_span). EDMI__DW_TINY is 2^10 of the smallest normal, far
+ * above one product's subnormal unit. */
+static edmi_real edmi__pot_tiny(const edmi_potential *pot, edmi_real d, edmi_real s, edmi_real m)
+{
+    edmi_real a = edmi__abs(pot->a), r = edmi__pot_span(pot, d, s);
+    edmi_real u = edmi__is_linear(pot) ? a + r
+                                       : a * (EDMI__ONE + EDMI__ONE / d) + EDMI_R(8.0) * m / s + r;
+    return EDMI__DW_TINY * (EDMI__ONE + EDMI_R(16.0) * u);
+}
+
+/* V of a built-in link whose squared length is s (and length d = sqrt s), in double-word,
+ * with the bound *err on its error. The zero-rest-length harmonic spring needs no square
+ * root. m, the term's magnitude, is |V| + |V'| d (or the sum of its parts' sizes, where
+ * those cancel): near a rest length V and V' vanish, and so does the error, which comes
+ * from the square root's ~18 u^2 d in d - b (u = eps/2); |d - b| is taken as |x| + 32 u^2
+ * (d + b), x as computed, so that where x is that error alone (computed 0) its square, the
+ * error of V, is still covered. */
+static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
+                         edmi_real *err)
+{
+    edmi_real a = pot->a, b = pot->b, m, xe;
+    edmi__dw x, t;
+    switch (pot->kind) {
+    case EDMI_POT_HARMONIC:
+        if (b == EDMI__ZERO) {
+            *v = edmi__dw_mul_r(s, EDMI__HALF * a);
+            m = EDMI__HALF * a * s.hi;
+        } else {
+            x = edmi__dw_add_r(d, -b);
+            *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
+            xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
+            m = a * xe * (xe + d.hi);
+        }
+        break;
+    case EDMI_POT_QUARTIC:
+        x = edmi__dw_sub(s, edmi__two_prod(b, b));
+        *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI_R(0.25) * a);
+        m = a * (edmi__abs(x.hi) + EDMI_R(2.0) * EDMI__DW_X * (s.hi + b * b)) * (s.hi + b * b);
+        break;
+    case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
+        x = edmi__dw_add_r(d, -b);
+        t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add_r(d, EDMI_R(2.0) * b));
+        *v = edmi__dw_div(edmi__dw_mul_r(t, a), edmi__dw_mul_r(d, EDMI_R(6.0)));
+        xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
+        m = edmi__abs(v->hi) + a * xe * (xe + d.hi + EDMI_R(2.0) * b) / EDMI_R(3.0);
+        break;
+    case EDMI_POT_LJ: /* 4 eps t^6 (t^6 - 1), t = sigma / d */
+        t = edmi__dw_div(edmi__dw_of(b), d);
+        t = edmi__dw_mul(t, t);
+        t = edmi__dw_mul(edmi__dw_mul(t, t), t);
+        *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add_r(t, -EDMI__ONE)),
+                            EDMI_R(4.0) * a);
+        m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
+        break;
+    case EDMI_POT_INVERSE:
+    default: /* user potentials are bounded by edmi__user_dv instead */
+        *v = edmi__dw_div(edmi__dw_of(-a), d);
+        m = edmi__abs(a) / d.hi;
+        break;
+    }
+    *err = EDMI__DW_ERR * m + edmi__pot_tiny(pot, d.hi, s.hi, m);
+}
+
+/* Every derivative of every part finite (a result beyond the range is not a result). */
+static int edmi__parts_finite(const edmi_pot_parts *o)
+{
+    int i;
+    for (i = 0; i < 5; i++)
+        if (!edmi__finite(o->v[i]) || !edmi__finite(o->c[i]) || !edmi__finite(o->e[i]) ||
+            !edmi__finite(o->sp[i]) || !edmi__finite(o->sm[i]))
+            return 0;
+    return 1;
+}
+
+edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts *out)
+{
+    edmi_pot_parts pp;
+    edmi_status st;
+    if (!pot || !out)
+        return EDMI_ERR_NULL;
+    if (!edmi__pot_valid(pot) || !edmi__finite(r) || !(r > EDMI__ZERO))
+        return EDMI_ERR_PARAM;
+    st = edmi__pot_parts(pot, r, &pp, 1);
+    if (st != EDMI_OK)
+        return st;
+    if (!edmi__parts_finite(&pp))
+        return EDMI_ERR_RANGE;
+    edmi__copy5(pp.v, out->v); /* part by part: a struct copy would need memcpy */
+    edmi__copy5(pp.c, out->c);
+    edmi__copy5(pp.e, out->e);
+    edmi__copy5(pp.sp, out->sp);
+    edmi__copy5(pp.sm, out->sm);
+    return EDMI_OK;
+}
+
+edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real d1,
+                             edmi_real *dd, edmi_real *dd_d1)
+{
+    edmi_real x, x1;
+    edmi_status st;
+    if (!pot || !dd || !dd_d1)
+        return EDMI_ERR_NULL;
+    if (!edmi__pot_valid(pot) || !edmi__finite(d0) || !edmi__finite(d1) ||
+        !(d0 > EDMI__ZERO) || !(d1 > EDMI__ZERO))
+        return EDMI_ERR_PARAM;
+    st = edmi__divdiff(pot, d0, d1, &x, &x1);
+    if (st != EDMI_OK)
+        return st;
+    if (!edmi__finite(x) || !edmi__finite(x1))
+        return EDMI_ERR_RANGE;
+    *dd = x;
+    *dd_d1 = x1;
+    return EDMI_OK;
+}
+
+static edmi_potential edmi__pot(edmi_pot_kind kind, edmi_real a, edmi_real b)
+{
+    edmi_potential p;
+    p.kind = kind;
+    p.a = a;
+    p.b = b;
+    p.fn = 0;
+    p.dd = 0;
+    p.ctx = 0;
+    return p;
+}
+
+edmi_potential edmi_pot_harmonic(edmi_real k, edmi_real r0)
+{
+    return edmi__pot(EDMI_POT_HARMONIC, k, r0);
+}
+
+edmi_potential edmi_pot_quartic(edmi_real k, edmi_real len)
+{
+    return edmi__pot(EDMI_POT_QUARTIC, k, len);
+}
+
+edmi_potential edmi_pot_neo_hooke(edmi_real c, edmi_real rbar)
+{
+    return edmi__pot(EDMI_POT_NEO_HOOKE, c, rbar);
+}
+
+edmi_potential edmi_pot_lj(edmi_real eps, edmi_real sigma)
+{
+    return edmi__pot(EDMI_POT_LJ, eps, sigma);
+}
+
+edmi_potential edmi_pot_inverse(edmi_real k) { return edmi__pot(EDMI_POT_INVERSE, k, EDMI__ZERO); }
+
+edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
+{
+    edmi_potential p = edmi__pot(EDMI_POT_USER, EDMI__ZERO, EDMI__ZERO);
+    p.fn = fn;
+    p.dd = dd;
+    p.ctx = ctx;
+    return p;
+}
+
 /* ==========================================================================================
- * The five algorithmic forces (section 4.1). Every pair force has the form
+ * The paper's algorithmic forces
+ *
+ * Section 4.1. Every pair force has the form
  *     f = dt * beta * r_m,   r_m = q_A,n+1/2 - q_B,n+1/2,
  * which conserves L, J and C (lemma many-body-momentum). MP has beta = V'(d_m)/d_m; the
  * others have beta = 2 Lambda / (d_n + d_n+1) with a scalar Lambda(d_n+1) per scheme. Each
- * Lambda function returns Lambda and dLambda/dd_n+1 for the consistent tangent.
+ * Lambda function returns Lambda and dLambda/dd_n+1 for the consistent tangent. A new scheme
+ * adds its Lambda here (and its name to edmi_scheme and edmi__params_valid).
  * ======================================================================================== */
 
 /* Everything a Lambda needs at the end of the step. */
@@ -580,8 +1022,7 @@ typedef struct edmi__link_eval {
     edmi_real d1, v1, m1;
 } edmi__link_eval;
 
-/* A harmonic spring of rest length 0, V = k/2 d^2 = k/2 |r|^2, is a quadratic function of
- * the link vector, smooth at d = 0 (a haptic virtual coupling). The general forms below
+/* The forces of a harmonic spring of rest length 0 (edmi__is_linear). The general forms
  * divide by d_m or d_n + d_n+1; their limits are closed forms. With dd = d_n+1 - d_n:
  *   MP  V'(d_m)/d_m                                   = k;
  *   LG  2 [k/2 (d_n + d_n+1)] / (d_n + d_n+1)         = k;
@@ -595,11 +1036,6 @@ typedef struct edmi__link_eval {
  *       gamma r_m (x) u is at most k, but gamma alone grows like 1/d^2: it is formed as
  *       2k (d_n/s) (r_m/s) (x) (r_n+1/d_n+1), s = d_n + d_n+1, each factor at most 2k or 1,
  *       so that a body settling onto its anchor (d ~ 1e-20 in float) keeps a finite tangent. */
-static int edmi__is_linear(const edmi_potential *pot)
-{
-    return pot->kind == EDMI_POT_HARMONIC && pot->b == EDMI__ZERO;
-}
-
 static void edmi__beta_linear(edmi_scheme scheme, edmi_real k, const edmi_link_ws *w,
                               const edmi_real r1[3], edmi__link_eval *le)
 {
@@ -700,68 +1136,14 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
 }
 
 /* ==========================================================================================
- * Residuals and consistent tangent (section 3.4, many-body form of section 4.1)
- * ======================================================================================== */
-
-/* Second end of a link at the end of the step: body b in the configuration q (rows per
- * body), or the anchor where it is at the end of the step (work->lw[j].x1). */
-static const edmi_real *edmi__end_b(const edmi_link *lk, const edmi_link_ws *w,
-                                    const edmi_real (*q)[3])
-{
-    return lk->b == EDMI_ANCHOR ? w->x1 : q[lk->b];
-}
-
-/* Link vector q_A - q_B (or q_A - anchor) of the system's current state. */
-static void edmi__link_vector(const edmi_system *sys, const edmi_link *lk, edmi_real r[3])
-{
-    edmi__sub(sys->body[lk->a].q, lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q, r);
-}
-
-/* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use, and
- * where each anchor is at the end of the step (edmi_move_anchor). */
-static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *work)
-{
-    int i, back = sys->n_links;
-    work->n_pair = 0;
-    for (i = 0; i < sys->n_links; i++) /* pair links first, anchor links after them */
-        if (sys->link[i].b == EDMI_ANCHOR)
-            work->order[--back] = i;
-        else
-            work->order[work->n_pair++] = i;
-    for (i = 0; i < sys->n_links; i++) {
-        const edmi_link *lk = &sys->link[i];
-        edmi_link_ws *w = &work->lw[i];
-        edmi_pot_parts p0;
-        edmi_status st;
-        edmi__link_vector(sys, lk, w->r0);
-        edmi__copy3(lk->anchor, w->x1);
-        w->d0 = edmi__norm(w->r0);
-        if (!(w->d0 > EDMI__ZERO) && !(w->d0 == EDMI__ZERO && edmi__is_linear(&lk->pot)))
-            return EDMI_ERR_COINCIDENT;
-        st = edmi__pot_parts(&lk->pot, w->d0, &p0, 1);
-        if (st != EDMI_OK)
-            return st;
-        if (!edmi__finite(p0.v[0]) || !edmi__finite(p0.v[1]))
-            return EDMI_ERR_RANGE; /* the start's energy or force beyond the range: refused */
-        w->v0 = p0.v[0];
-        w->m0 = edmi__pot_mag(&p0, w->d0);
-        w->dv0 = p0.v[1];
-        w->dve0 = p0.e[1];
-        w->d3p0 = p0.sp[3];
-        w->d3m0 = p0.sm[3];
-    }
-    for (i = 0; i < sys->n_moving; i++)
-        edmi__copy3(sys->anchor_next[sys->moving[i]], work->lw[sys->moving[i]].x1);
-    return EDMI_OK;
-}
-
-/* ==========================================================================================
- * The mass matrix M (section 2): diagonal entries body[a].m, and with EDMI_MAX_MASS_GAP > 0
- * off-diagonal entries m_ab within that gap of the diagonal (sys->mass_off). The kinetic
- * energy is K = 1/2 p . M^-1 p and the time finite element gives M (q_n+1 - q_n) =
- * dt p_n+1/2. The step needs M itself (a banded product, no solve); K needs M^-1, through a
- * Cholesky factorisation M = L L^T streamed row by row: nothing is stored, so a body's mass
- * written between steps is taken as it is (the state access contract).
+ * The mass matrix
+ *
+ * Section 2: diagonal entries body[a].m, and with EDMI_MAX_MASS_GAP > 0 off-diagonal entries
+ * m_ab within that gap of the diagonal (sys->mass_off). The kinetic energy is
+ * K = 1/2 p . M^-1 p and the time finite element gives M (q_n+1 - q_n) = dt p_n+1/2. The step
+ * needs M itself (a banded product, no solve); K needs M^-1, through a Cholesky factorisation
+ * M = L L^T streamed row by row: nothing is stored, so a body's mass written between steps is
+ * taken as it is (the state access contract).
  * ======================================================================================== */
 
 #if EDMI_MAX_MASS_GAP > 0
@@ -926,6 +1308,121 @@ static void edmi__mass_residual(const edmi_system *sys, const edmi_real (*q1)[3]
 #endif
 }
 
+/* ==========================================================================================
+ * Residual and consistent tangent
+ *
+ * Section 3.4, many-body form of section 4.1: the start-of-step quantities of each link, a
+ * link's force and tangent block, then the effects beyond links (dampers, force ports, the
+ * field), then the residual R_q, R_p that sums them.
+ * ======================================================================================== */
+
+/* Second end of a link at the end of the step: body b in the configuration q (rows per
+ * body), or the anchor where it is at the end of the step (work->lw[j].x1). */
+static const edmi_real *edmi__end_b(const edmi_link *lk, const edmi_link_ws *w,
+                                    const edmi_real (*q)[3])
+{
+    return lk->b == EDMI_ANCHOR ? w->x1 : q[lk->b];
+}
+
+/* Link vector q_A - q_B (or q_A - anchor) of the system's current state. */
+static void edmi__link_vector(const edmi_system *sys, const edmi_link *lk, edmi_real r[3])
+{
+    edmi__sub(sys->body[lk->a].q, lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q, r);
+}
+
+/* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use, and
+ * where each anchor is at the end of the step (edmi_move_anchor). */
+static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *work)
+{
+    int i, back = sys->n_links;
+    work->n_pair = 0;
+    for (i = 0; i < sys->n_links; i++) /* pair links first, anchor links after them */
+        if (sys->link[i].b == EDMI_ANCHOR)
+            work->order[--back] = i;
+        else
+            work->order[work->n_pair++] = i;
+    for (i = 0; i < sys->n_links; i++) {
+        const edmi_link *lk = &sys->link[i];
+        edmi_link_ws *w = &work->lw[i];
+        edmi_pot_parts p0;
+        edmi_status st;
+        edmi__link_vector(sys, lk, w->r0);
+        edmi__copy3(lk->anchor, w->x1);
+        w->d0 = edmi__norm(w->r0);
+        if (!(w->d0 > EDMI__ZERO) && !(w->d0 == EDMI__ZERO && edmi__is_linear(&lk->pot)))
+            return EDMI_ERR_COINCIDENT;
+        st = edmi__pot_parts(&lk->pot, w->d0, &p0, 1);
+        if (st != EDMI_OK)
+            return st;
+        if (!edmi__finite(p0.v[0]) || !edmi__finite(p0.v[1]))
+            return EDMI_ERR_RANGE; /* the start's energy or force beyond the range: refused */
+        w->v0 = p0.v[0];
+        w->m0 = edmi__pot_mag(&p0, w->d0);
+        w->dv0 = p0.v[1];
+        w->dve0 = p0.e[1];
+        w->d3p0 = p0.sp[3];
+        w->d3m0 = p0.sm[3];
+    }
+    for (i = 0; i < sys->n_moving; i++)
+        edmi__copy3(sys->anchor_next[sys->moving[i]], work->lw[sys->moving[i]].x1);
+    return EDMI_OK;
+}
+
+/* One link's algorithmic force f = dt beta r_m for the end-of-step link vector r1 and its
+ * tangent block (into work->lw[j]). */
+static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                    int j, const edmi_real r1[3], edmi_real f[3], int *switched)
+{
+    const edmi_link *lk = &sys->link[j];
+    edmi_link_ws *w = &work->lw[j];
+    edmi__link_eval le;
+    edmi_real rm[3];
+    edmi_status st;
+    int i;
+    for (i = 0; i < 3; i++)
+        rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+    le.switched = 0;
+    le.rm_div = EDMI__ONE;
+    le.have1 = 0;
+    le.d1 = le.v1 = le.m1 = EDMI__ZERO;
+    le.beta_err = EDMI__ZERO;
+    st = EDMI_OK;
+    if (edmi__is_linear(&lk->pot))
+        edmi__beta_linear(sys->params.scheme, lk->pot.a, w, r1, &le);
+    else if (sys->params.scheme == EDMI_MP)
+        st = edmi__beta_mp(&lk->pot, rm, &le);
+    else
+        st = edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
+    if (st != EDMI_OK)
+        return st;
+    *switched = le.switched;
+    w->have1 = le.have1;
+    w->d1 = le.d1;
+    w->v1 = le.v1;
+    w->m1 = le.m1;
+    w->beta = le.beta;
+    w->gamma = le.gamma;
+    w->noise = le.beta_err == EDMI__ZERO ? EDMI__ZERO : dt * edmi__norm(rm) * le.beta_err;
+    for (i = 0; i < 3; i++) {
+        f[i] = dt * le.beta * rm[i];
+        w->rm[i] = le.rm_div == EDMI__ONE ? rm[i] : rm[i] / le.rm_div;
+        w->u[i] = le.u[i];
+    }
+    return EDMI_OK;
+}
+
+/* The link's tangent block k = d f / d r_n+1 = dt (beta/2 I + gamma r_m (x) u) at its last
+ * evaluation, row-major. Built where a correction (or edmi_tangent) needs it, so the final
+ * evaluation of a step, whose tangent no correction uses, does not build it. */
+static void edmi__link_tangent(const edmi_link_ws *w, edmi_real dt, edmi_real k[9])
+{
+    int i, c;
+    for (i = 0; i < 3; i++)
+        for (c = 0; c < 3; c++)
+            k[3 * i + c] = dt * (w->gamma * w->rm[i] * w->u[c] +
+                                 (i == c ? EDMI__HALF * w->beta : EDMI__ZERO));
+}
+
 /* Linear viscous damper along a link (docs/api.md, "Features"): impulse
  *     I = c (dr . n) n,   dr = r_n+1 - r_n,   n = r_m / |r_m|,
  * is parallel to r_m, so L, J and C are conserved (lemma many-body-momentum), and it removes
@@ -1012,61 +1509,6 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
     return EDMI_OK;
 }
 
-/* One link's algorithmic force f = dt beta r_m for the end-of-step link vector r1 and its
- * tangent block (into work->lw[j]). */
-static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                                    int j, const edmi_real r1[3], edmi_real f[3], int *switched)
-{
-    const edmi_link *lk = &sys->link[j];
-    edmi_link_ws *w = &work->lw[j];
-    edmi__link_eval le;
-    edmi_real rm[3];
-    edmi_status st;
-    int i;
-    for (i = 0; i < 3; i++)
-        rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
-    le.switched = 0;
-    le.rm_div = EDMI__ONE;
-    le.have1 = 0;
-    le.d1 = le.v1 = le.m1 = EDMI__ZERO;
-    le.beta_err = EDMI__ZERO;
-    st = EDMI_OK;
-    if (edmi__is_linear(&lk->pot))
-        edmi__beta_linear(sys->params.scheme, lk->pot.a, w, r1, &le);
-    else if (sys->params.scheme == EDMI_MP)
-        st = edmi__beta_mp(&lk->pot, rm, &le);
-    else
-        st = edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
-    if (st != EDMI_OK)
-        return st;
-    *switched = le.switched;
-    w->have1 = le.have1;
-    w->d1 = le.d1;
-    w->v1 = le.v1;
-    w->m1 = le.m1;
-    w->beta = le.beta;
-    w->gamma = le.gamma;
-    w->noise = le.beta_err == EDMI__ZERO ? EDMI__ZERO : dt * edmi__norm(rm) * le.beta_err;
-    for (i = 0; i < 3; i++) {
-        f[i] = dt * le.beta * rm[i];
-        w->rm[i] = le.rm_div == EDMI__ONE ? rm[i] : rm[i] / le.rm_div;
-        w->u[i] = le.u[i];
-    }
-    return EDMI_OK;
-}
-
-/* The link's tangent block k = d f / d r_n+1 = dt (beta/2 I + gamma r_m (x) u) at its last
- * evaluation, row-major. Built where a correction (or edmi_tangent) needs it, so the final
- * evaluation of a step, whose tangent no correction uses, does not build it. */
-static void edmi__link_tangent(const edmi_link_ws *w, edmi_real dt, edmi_real k[9])
-{
-    int i, c;
-    for (i = 0; i < 3; i++)
-        for (c = 0; c < 3; c++)
-            k[3 * i + c] = dt * (w->gamma * w->rm[i] * w->u[c] +
-                                 (i == c ? EDMI__HALF * w->beta : EDMI__ZERO));
-}
-
 static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                   const edmi_real (*q1)[3], const edmi_real (*p1)[3],
                                   edmi_real (*rq)[3], edmi_real (*rp)[3], int *switches)
@@ -1118,10 +1560,12 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
 }
 
 /* ==========================================================================================
- * Linear solves: the segregated Newton system (I + dt/(2m) C) dq = -R_q - dt/(2m) R_p.
- * One body: a hand-written 3x3 solve. Several: Gaussian elimination with partial pivoting,
- * restricted to the band the links occupy (bodies linked to bodies far away in index widen
- * it; all-pairs scenes are dense). Exact solves keep Newton quadratic.
+ * Linear solves
+ *
+ * The segregated Newton system (I + dt/(2m) C) dq = -R_q - dt/(2m) R_p. One body: a
+ * hand-written 3x3 solve. Several: Gaussian elimination with partial pivoting, restricted to
+ * the band the links occupy (bodies linked to bodies far away in index widen it; all-pairs
+ * scenes are dense). Exact solves keep Newton quadratic.
  * ======================================================================================== */
 
 /* Solve A x = b (3x3, row-major) by the adjugate. Singular when the condition number, as
@@ -1547,6 +1991,18 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
     return EDMI_OK;
 }
 
+/* ==========================================================================================
+ * Newton
+ *
+ * The predictor multi-corrector with a scale-aware stopping test. R_q and R_p carry
+ * different units and bodies differ by orders of magnitude (the Sun and Mercury), so each
+ * body's residual blocks are measured against that body's own scales:
+ *   S_p = |p_n| + |R_p at the predictor| (momentum plus the impulse of one step),
+ *   S_q = |q_n| + dt/m S_p               (position plus the motion of one step),
+ * and the scaled residual is the largest |R_q|/S_q, |R_p|/S_p over bodies. A step is solved
+ * when every body's residual is within EDMI_SOLVED units of its round-off noise.
+ * ======================================================================================== */
+
 /* Move the iterate by lambda times the Newton correction (dq in work->rhs, dp in work->dp). */
 static void edmi__move(const edmi_system *sys, edmi_workspace *work, edmi_real lambda)
 {
@@ -1557,15 +2013,6 @@ static void edmi__move(const edmi_system *sys, edmi_workspace *work, edmi_real l
             work->p1[a][i] += lambda * work->dp[a][i];
         }
 }
-
-/* ==========================================================================================
- * The Newton predictor multi-corrector with a scale-aware stopping test.
- * R_q and R_p carry different units and bodies differ by orders of magnitude (the Sun and
- * Mercury), so each body's residual blocks are measured against that body's own scales:
- *   S_p = |p_n| + |R_p at the predictor| (momentum plus the impulse of one step),
- *   S_q = |q_n| + dt/m S_p               (position plus the motion of one step),
- * and the scaled residual is the largest |R_q|/S_q, |R_p|/S_p over bodies.
- * ======================================================================================== */
 
 static edmi_status edmi__set_scales(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
 {
@@ -1635,441 +2082,349 @@ static edmi_status edmi__line_search(const edmi_system *sys, edmi_workspace *wor
     return st;
 }
 
-static int edmi__params_valid(const edmi_params *p)
-{
-    return (p->scheme == EDMI_MP || p->scheme == EDMI_LG || p->scheme == EDMI_GE ||
-            p->scheme == EDMI_PM || p->scheme == EDMI_PT) &&
-           (p->lg_form == EDMI_LG_CLOSED || p->lg_form == EDMI_LG_QUOTIENT) &&
-           (p->lg_alt == EDMI_ALT_JANZ || p->lg_alt == EDMI_ALT_GONZALEZ ||
-            p->lg_alt == EDMI_ALT_GE || p->lg_alt == EDMI_ALT_PM || p->lg_alt == EDMI_ALT_PT) &&
-           edmi__finite(p->tol_q) && p->tol_q > EDMI__ZERO && edmi__finite(p->tol_r) &&
-           p->tol_r >= EDMI__ZERO && edmi__finite(p->tol_a) && p->tol_a >= EDMI__ZERO &&
-           p->l_max >= 1 && edmi__finite(p->tank_cap) && p->tank_cap >= EDMI__ZERO &&
-           p->substep_levels >= 0 && p->substep_levels <= EDMI_MAX_SUBSTEP_LEVELS &&
-           (p->guard == EDMI_GUARD_AUTO || p->guard == EDMI_GUARD_ON ||
-            p->guard == EDMI_GUARD_OFF);
-}
+/* Every stop that returns EDMI_OK has each body's residual within this factor of its
+ * round-off noise (edmi__solved; edmi.h states the bound). */
+#define EDMI__SOLVED ((edmi_real)EDMI_SOLVED)
 
-/* Body a exists; b is an anchor or another existing body. */
-static int edmi__link_ends_valid(int n_bodies, int a, int b)
+/* The round-off noise of each body's residual at the current iterate, into work->rhs (which
+ * the next correction overwrites): rhs[2a] for R_q, rhs[2a + 1] for R_p, EDMI_EPS times the
+ * magnitudes summed into them. R_q = q1 - q0 - h (p0 + p1) (plus the coupled masses' rows):
+ * |q_n| + |q1| + dt/m (|p_n| + |p1|) =: Q_a. R_p = p1 - p0 + the impulses: |p_n| + |p1|, the
+ * ports' and the field's dt |F|, and per link the impulse dt |beta r_m| and its tangent block
+ * (d f / d r_n+1, ~dt V'') times 3 (|r_m| + Q_a + Q_b): the grid of the iterate's own
+ * positions and the resolution Newton stops at (a correction below eps of the motion), which
+ * near rest away from the origin (|r| ~ 1e-15 at |q| ~ 1) and on a stiff step (omega dt =
+ * 100, dt |p| / m >> |q|) is far above the force's own rounding; plus the potential's
+ * cancelling terms (LJ's two parts, GE's convex and concave halves, the LG quotient's
+ * eps |V| / |d1 - d0|: edmi_link_ws.noise), and per damper c (|r_n| + |r1| + Q_a + Q_b). All
+ * of it from the iterate and the step's start: nothing a far predictor inflates. */
+static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
 {
-    return a >= 0 && a < n_bodies && (b == EDMI_ANCHOR || (b >= 0 && b < n_bodies && b != a));
-}
-
-/* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
-static edmi_status edmi__validate_effects(const edmi_system *sys)
-{
-    int i;
-    for (i = 0; i < EDMI__N_DAMPERS(sys); i++) {
-        const edmi_damper *d = &sys->damper[i];
-        if (d->link < 0 || d->link >= sys->n_links)
-            return EDMI_ERR_INDEX;
-        if (!edmi__finite(d->c) || d->c < EDMI__ZERO)
-            return EDMI_ERR_PARAM;
-    }
-    for (i = 0; i < sys->n_forced; i++) {
-        int b = sys->forced[i];
-        if (b < 0 || b >= sys->n_bodies)
-            return EDMI_ERR_INDEX;
-        if (!edmi__finite3(sys->force[b]))
-            return EDMI_ERR_NONFINITE;
-    }
-    for (i = 0; i < sys->n_moving; i++) {
-        int j = sys->moving[i];
-        if (j < 0 || j >= sys->n_links || sys->link[j].b != EDMI_ANCHOR)
-            return EDMI_ERR_INDEX;
-        if (!edmi__finite3(sys->anchor_next[j]))
-            return EDMI_ERR_NONFINITE;
-    }
-    if (sys->has_field && !edmi__finite3(sys->g))
-        return EDMI_ERR_NONFINITE;
-    if (!edmi__finite(sys->t) || !edmi__finite(sys->t_carry) || !edmi__finite(sys->tank))
-        return EDMI_ERR_NONFINITE;
-    return sys->tank >= EDMI__ZERO ? EDMI_OK : EDMI_ERR_PARAM;
-}
-
-/* The counts every entry point relies on before it indexes an array: a caller that wrote
- * sys->n_bodies etc. out of range gets EDMI_ERR_CAPACITY, not an access out of bounds. */
-static int edmi__counts_valid(const edmi_system *sys)
-{
-    return sys->n_bodies >= 0 && sys->n_bodies <= EDMI_MAX_BODIES && sys->n_links >= 0 &&
-           sys->n_links <= EDMI_MAX_LINKS && sys->n_dampers >= 0 &&
-           sys->n_dampers <= EDMI_MAX_DAMPERS && sys->n_forced >= 0 &&
-           sys->n_forced <= sys->n_bodies && sys->n_moving >= 0 &&
-           sys->n_moving <= sys->n_links;
-}
-
-/* The system as a whole: what edmi_step and edmi_invariants_of check before they read it. */
-/* A Newton matrix store smaller than the dense one of EDMI_MAX_BODIES is checked where the
- * system can outgrow it; the default (dense) holds every system and is never checked. */
-#define EDMI__MATRIX_BOUNDED (EDMI_MAX_MATRIX < 9L * EDMI_MAX_BODIES * EDMI_MAX_BODIES)
-
-static int edmi__guard_on(const edmi_params *p)
-{
-    return p->guard == EDMI_GUARD_ON ||
-           (p->guard == EDMI_GUARD_AUTO &&
-            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
-}
-
-static edmi_status edmi__validate_system(const edmi_system *sys)
-{
-    int i;
-    if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
-    if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies, edmi__max_gap(sys)))
-        return EDMI_ERR_CAPACITY;
-    if (!edmi__params_valid(&sys->params))
-        return EDMI_ERR_PARAM;
-    for (i = 0; i < sys->n_bodies; i++) {
-        const edmi_body *bd = &sys->body[i];
-        if (!edmi__finite(bd->m) || !(bd->m > EDMI__ZERO))
-            return EDMI_ERR_MASS;
-        if (!edmi__finite3(bd->q) || !edmi__finite3(bd->p))
-            return EDMI_ERR_NONFINITE;
-    }
-    for (i = 0; i < sys->n_links; i++) {
-        const edmi_link *lk = &sys->link[i];
-        if (!edmi__link_ends_valid(sys->n_bodies, lk->a, lk->b))
-            return EDMI_ERR_INDEX;
-        if (!edmi__pot_valid(&lk->pot))
-            return EDMI_ERR_PARAM;
-        if (!edmi__finite3(lk->anchor))
-            return EDMI_ERR_NONFINITE;
+    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
+    edmi_real *acc = work->rhs;
+    int a, j, i;
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        edmi_real np = edmi__norm(bd->p) + edmi__norm(work->p1[a]);
+        /* the subnormal unit REAL_MIN eps too: below the smallest normal, rounding is absolute
+         * (a body settling onto its anchor in float reaches q ~ 1e-41, where Newton's
+         * residual cannot fall below ~1e-4 of its scales) */
+        acc[2 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np) +
+                     EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
+        acc[2 * a + 1] = EDMI_EPS * np + EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
+        if (sys->has_field)
+            acc[2 * a + 1] += EDMI_EPS * dt * edmi__abs(edmi__mass_row(sys, a)) *
+                              edmi__norm(sys->g);
     }
 #if EDMI_MAX_MASS_GAP > 0
-    for (i = 1; i < sys->n_bodies; i++) {
-        int k;
-        for (k = 0; k < EDMI_MAX_MASS_GAP && k < i; k++)
-            if (!edmi__finite(sys->mass_off[i][k]))
-                return EDMI_ERR_NONFINITE;
-    }
-    if (EDMI__COUPLED(sys) && !edmi__mass_provable(sys))
-        return EDMI_ERR_MASS; /* a mass written since: M no longer provably definite */
-#endif
-    return edmi__validate_effects(sys);
-}
-
-/* Everything edmi_step checks before it touches anything: the system, and a dt the clock
- * can take (t + dt finite: a clock at +inf would refuse every later step). */
-static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
-{
-    edmi_status st;
-    if (!edmi__finite(dt) || !(dt > EDMI__ZERO))
-        return EDMI_ERR_DT;
-    st = edmi__validate_system(sys);
-    if (st != EDMI_OK)
-        return st;
-    return edmi__finite(sys->t + (dt - sys->t_carry)) ? EDMI_OK : EDMI_ERR_DT;
-}
-
-/* ==========================================================================================
- * Double-word arithmetic: a real number held as the unevaluated sum hi + lo of two
- * edmi_reals (|lo| <= ulp(hi)/2), about twice the working precision's digits. The passivity
- * guard evaluates the change of H in it. Algorithms and error bounds (u = eps/2): Joldes,
- * Muller, Popescu, "Tight and rigorous error bounds for basic building blocks of double-word
- * arithmetic", ACM TOMS 44 (2017): 2Sum and Fast2Sum exact; TwoProd exact (fused multiply-
- * add, or Veltkamp/Dekker splitting, exact barring overflow and underflow); DW+DW <= 3u^2
- * (the sloppy sum of two of the same sign too), DW+FP <= 2u^2, DW*FP <= 2u^2, DW*DW <= 7u^2,
- * DW/FP <= 3u^2, DW/DW <= 15u^2 + 56u^3 relative; the square root one Newton step from
- * sqrt(hi), <= 4u^2 relative.
- * ======================================================================================== */
-
-typedef struct edmi__dw {
-    edmi_real hi, lo;
-} edmi__dw;
-
-#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
-#define EDMI__SPLIT EDMI_R(134217729.0) /* 2^27 + 1 */
-#else
-#define EDMI__SPLIT EDMI_R(4097.0) /* 2^12 + 1 */
-#endif
-
-static edmi__dw edmi__dw_of(edmi_real x)
-{
-    edmi__dw r;
-    r.hi = x;
-    r.lo = EDMI__ZERO;
-    return r;
-}
-
-/* The double-word pair stored as x[0] (hi), x[1] (lo). */
-static edmi__dw edmi__dw_pair(const edmi_real x[2])
-{
-    edmi__dw r;
-    r.hi = x[0];
-    r.lo = x[1];
-    return r;
-}
-
-/* a + b exactly, for |a| >= |b| (or a == 0). */
-static EDMI__INLINE edmi__dw edmi__fast_two_sum(edmi_real a, edmi_real b)
-{
-    edmi__dw r;
-    r.hi = a + b;
-    r.lo = b - (r.hi - a);
-    return r;
-}
-
-/* a + b exactly (Knuth's 2Sum). */
-static EDMI__INLINE edmi__dw edmi__two_sum(edmi_real a, edmi_real b)
-{
-    edmi__dw r;
-    edmi_real a1, b1;
-    r.hi = a + b;
-    a1 = r.hi - b;
-    b1 = r.hi - a1;
-    r.lo = (a - a1) + (b - b1);
-    return r;
-}
-
-/* a * b exactly. */
-static EDMI__INLINE edmi__dw edmi__two_prod(edmi_real a, edmi_real b)
-{
-    edmi__dw r;
-    r.hi = a * b;
-#ifdef EDMI_FMA
-    r.lo = EDMI_FMA(a, b, -r.hi);
-#else
-    {
-        edmi_real ca = EDMI__SPLIT * a, cb = EDMI__SPLIT * b;
-        edmi_real ah = ca - (ca - a), al = a - ah, bh = cb - (cb - b), bl = b - bh;
-        r.lo = ((ah * bh - r.hi) + ah * bl + al * bh) + al * bl;
-    }
-#endif
-    return r;
-}
-
-static EDMI__INLINE edmi__dw edmi__dw_add(edmi__dw x, edmi__dw y)
-{
-    edmi__dw s = edmi__two_sum(x.hi, y.hi), t = edmi__two_sum(x.lo, y.lo), v;
-    v = edmi__fast_two_sum(s.hi, s.lo + t.hi);
-    return edmi__fast_two_sum(v.hi, t.lo + v.lo);
-}
-
-/* x + y, x.hi and y.hi of the same sign (JMP's SloppyDWPlusDW: 11 operations, not 20). */
-static EDMI__INLINE edmi__dw edmi__dw_add_same(edmi__dw x, edmi__dw y)
-{
-    edmi__dw s = edmi__two_sum(x.hi, y.hi);
-    return edmi__fast_two_sum(s.hi, s.lo + (x.lo + y.lo));
-}
-
-/* x + y for a real y (JMP's DWPlusFP). */
-static EDMI__INLINE edmi__dw edmi__dw_add_r(edmi__dw x, edmi_real y)
-{
-    edmi__dw s = edmi__two_sum(x.hi, y);
-    return edmi__fast_two_sum(s.hi, x.lo + s.lo);
-}
-
-static EDMI__INLINE edmi__dw edmi__dw_neg(edmi__dw x)
-{
-    x.hi = -x.hi;
-    x.lo = -x.lo;
-    return x;
-}
-
-static EDMI__INLINE edmi__dw edmi__dw_sub(edmi__dw x, edmi__dw y) { return edmi__dw_add(x, edmi__dw_neg(y)); }
-
-/* x + y where one of them is often exactly 0 (a sum's first term, a step without work): then
- * the other, which is what edmi__dw_add returns for finite x and y but for the sign of a zero.
- * A double-word number (hi = fl(hi + lo), as every operation here returns one) whose hi is 0
- * has lo = 0, and with an operand (0, 0) each TwoSum and Fast2Sum in edmi__dw_add returns its
- * other operand exactly. */
-static EDMI__INLINE edmi__dw edmi__dw_add_z(edmi__dw x, edmi__dw y)
-{
-    return y.hi == EDMI__ZERO ? x : x.hi == EDMI__ZERO ? y : edmi__dw_add(x, y);
-}
-
-static EDMI__INLINE edmi__dw edmi__dw_mul_r(edmi__dw x, edmi_real y)
-{
-    edmi__dw c = edmi__two_prod(x.hi, y), t = edmi__fast_two_sum(c.hi, x.lo * y);
-    return edmi__fast_two_sum(t.hi, t.lo + c.lo);
-}
-
-static EDMI__INLINE edmi__dw edmi__dw_mul(edmi__dw x, edmi__dw y)
-{
-    edmi__dw c = edmi__two_prod(x.hi, y.hi);
-    return edmi__fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
-}
-
-static edmi__dw edmi__dw_div(edmi__dw x, edmi__dw y)
-{
-    edmi_real th = x.hi / y.hi;
-    edmi__dw r = edmi__dw_mul_r(y, th);
-    return edmi__fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
-}
-
-/* x / y for a real y (JMP's DWDivFP3). */
-static edmi__dw edmi__dw_div_r(edmi__dw x, edmi_real y)
-{
-    edmi_real th = x.hi / y;
-    edmi__dw p = edmi__two_prod(th, y);
-    return edmi__fast_two_sum(th, (((x.hi - p.hi) - p.lo) + x.lo) / y);
-}
-
-static edmi__dw edmi__dw_sqrt(edmi__dw x)
-{
-    edmi_real s;
-    edmi__dw p;
-    if (!(x.hi > EDMI__ZERO))
-        return edmi__dw_of(EDMI__ZERO);
-    s = EDMI_SQRT(x.hi);
-    p = edmi__two_prod(s, s);
-    return edmi__fast_two_sum(s, (((x.hi - p.hi) - p.lo) + x.lo) / (EDMI_R(2.0) * s));
-}
-
-static edmi_real edmi__dw_real(edmi__dw x) { return x.hi + x.lo; }
-
-/* |v|^2 of a double-word vector (a sum of squares: sloppy sums). */
-static edmi__dw edmi__dw_sq3(const edmi__dw v[3])
-{
-    edmi__dw s = edmi__dw_mul(v[0], v[0]);
-    s = edmi__dw_add_same(s, edmi__dw_mul(v[1], v[1]));
-    return edmi__dw_add_same(s, edmi__dw_mul(v[2], v[2]));
-}
-
-/* a - b exactly, per component. */
-static void edmi__dw_diff3(const edmi_real a[3], const edmi_real b[3], edmi__dw out[3])
-{
-    out[0] = edmi__two_sum(a[0], -b[0]);
-    out[1] = edmi__two_sum(a[1], -b[1]);
-    out[2] = edmi__two_sum(a[2], -b[2]);
-}
-
-/* |a|^2 of a real vector, exactly up to the final double-word roundings. */
-static edmi__dw edmi__dw_norm2(const edmi_real a[3])
-{
-    edmi__dw s = edmi__two_prod(a[0], a[0]);
-    s = edmi__dw_add_same(s, edmi__two_prod(a[1], a[1]));
-    return edmi__dw_add_same(s, edmi__two_prod(a[2], a[2]));
-}
-
-/* f . (a - b) k^2 with a - b formed exactly and k a power of two (exact). */
-static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const edmi_real b[3],
-                              edmi_real k)
-{
-    edmi__dw d[3], s;
-    int i;
-    edmi__dw_diff3(a, b, d);
-    s = edmi__dw_of(EDMI__ZERO);
-    for (i = 0; i < 3; i++) {
-        d[i].hi = d[i].hi * k * k;
-        d[i].lo = d[i].lo * k * k;
-        s = edmi__dw_add(s, edmi__dw_mul_r(d[i], f[i]));
-    }
-    return s;
-}
-
-/* Error bound of a double-word energy term: |computed - exact| <= EDMI__DW_ERR * M, with M
- * the term's magnitude (the sum of the absolute values its formula adds). Each term below
- * passes through at most a dozen double-word operations of <= 15u^2 each; with the growth
- * of relative errors through the powers (LJ's (s/d)^6 multiplies the error of s/d by 6) the
- * worst is about 350 u^2 (LJ), so 1024 u^2 = 256 eps^2 leaves a factor 3. Underflow makes
- * TwoProd inexact below ~2^p REAL_MIN, by at most a few subnormal units per product:
- * EDMI__DW_TINY covers that in a quantity, and each term adds it times every factor the
- * quantity is multiplied or divided by afterwards (1/2m for a kinetic energy, m for the
- * field's work, a potential's coefficient and |dV/ds| <= 8 M / s for the squared length s
- * it is evaluated from). Tiny masses, lengths or momenta thus make the bound large and the
- * step uncertifiable (EDMI_ERR_PASSIVITY), never wrongly certified (measured: a body of
- * mass 2e-28 with p ~ 1e-31 in float, whose p^2 underflows to 0). */
-#define EDMI__DW_ERR (EDMI_R(256.0) * EDMI_EPS * EDMI_EPS)
-#define EDMI__DW_TINY (EDMI_R(1024.0) * EDMI__REAL_MIN)
-/* The double-word length's error, relative: 32 u^2 = 8 eps^2 (18 u^2 of the squared length and
- * its square root, with room). */
-#define EDMI__DW_X (EDMI_R(8.0) * EDMI_EPS * EDMI_EPS)
-
-/* What a potential's coefficient (a/2, a/4, a/6, 4a) multiplies at length d (s = d^2): the
- * coefficient's own underflow (a near the smallest normals; measured: a = 1.4e-45 in float,
- * whose a/2 is 0) errs by this many subnormal units. */
-static edmi_real edmi__pot_span(const edmi_potential *pot, edmi_real d, edmi_real s)
-{
-    edmi_real b = pot->b, t;
-    switch (pot->kind) {
-    case EDMI_POT_HARMONIC:
-        return b == EDMI__ZERO ? s : (d + b) * (d + b);
-    case EDMI_POT_QUARTIC:
-        return (s + b * b) * (s + b * b);
-    case EDMI_POT_NEO_HOOKE:
-        return (d + b) * (d + b) * (d + EDMI_R(2.0) * b) / d;
-    case EDMI_POT_LJ:
-        t = b / d;
-        t = t * t * t;
-        return t * t * (t * t + EDMI__ONE);
-    default:
-        return EDMI__ZERO; /* inverse: a itself, exact */
-    }
-}
-
-/* The underflow allowance of V at length d (s = d^2) whose magnitude is m, for the double-word
- * evaluation and the plain one alike (each formula is a chain of the same products):
- * underflow in s, amplified by |dV/ds| = |V'| / 2d <= m / s (none for V = a s / 2, whose s
- * may be 0), in the products after it (the coefficient a, over d for neo-Hooke and inverse)
- * and in the coefficient (edmi__pot_span). EDMI__DW_TINY is 2^10 of the smallest normal, far
- * above one product's subnormal unit. */
-static edmi_real edmi__pot_tiny(const edmi_potential *pot, edmi_real d, edmi_real s, edmi_real m)
-{
-    edmi_real a = edmi__abs(pot->a), r = edmi__pot_span(pot, d, s);
-    edmi_real u = edmi__is_linear(pot) ? a + r
-                                       : a * (EDMI__ONE + EDMI__ONE / d) + EDMI_R(8.0) * m / s + r;
-    return EDMI__DW_TINY * (EDMI__ONE + EDMI_R(16.0) * u);
-}
-
-/* V of a built-in link whose squared length is s (and length d = sqrt s), in double-word,
- * with the bound *err on its error. The zero-rest-length harmonic spring needs no square
- * root. m, the term's magnitude, is |V| + |V'| d (or the sum of its parts' sizes, where
- * those cancel): near a rest length V and V' vanish, and so does the error, which comes
- * from the square root's ~18 u^2 d in d - b (u = eps/2); |d - b| is taken as |x| + 32 u^2
- * (d + b), x as computed, so that where x is that error alone (computed 0) its square, the
- * error of V, is still covered. */
-static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
-                         edmi_real *err)
-{
-    edmi_real a = pot->a, b = pot->b, m, xe;
-    edmi__dw x, t;
-    switch (pot->kind) {
-    case EDMI_POT_HARMONIC:
-        if (b == EDMI__ZERO) {
-            *v = edmi__dw_mul_r(s, EDMI__HALF * a);
-            m = EDMI__HALF * a * s.hi;
-        } else {
-            x = edmi__dw_add_r(d, -b);
-            *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
-            xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
-            m = a * xe * (xe + d.hi);
+    for (a = 1; a < sys->n_bodies; a++) /* R_q's coupled terms m_ab / m_aa (q1_b - q_n,b) */
+        for (j = 0; j < EDMI_MAX_MASS_GAP && j < a; j++) {
+            edmi_real m = edmi__abs(sys->mass_off[a][j]);
+            int b = a - 1 - j;
+            acc[2 * a] += EDMI_EPS * m / sys->body[a].m *
+                          (edmi__norm(q1[b]) + edmi__norm(sys->body[b].q));
+            acc[2 * b] += EDMI_EPS * m / sys->body[b].m *
+                          (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q));
         }
-        break;
-    case EDMI_POT_QUARTIC:
-        x = edmi__dw_sub(s, edmi__two_prod(b, b));
-        *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI_R(0.25) * a);
-        m = a * (edmi__abs(x.hi) + EDMI_R(2.0) * EDMI__DW_X * (s.hi + b * b)) * (s.hi + b * b);
-        break;
-    case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
-        x = edmi__dw_add_r(d, -b);
-        t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add_r(d, EDMI_R(2.0) * b));
-        *v = edmi__dw_div(edmi__dw_mul_r(t, a), edmi__dw_mul_r(d, EDMI_R(6.0)));
-        xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
-        m = edmi__abs(v->hi) + a * xe * (xe + d.hi + EDMI_R(2.0) * b) / EDMI_R(3.0);
-        break;
-    case EDMI_POT_LJ: /* 4 eps t^6 (t^6 - 1), t = sigma / d */
-        t = edmi__dw_div(edmi__dw_of(b), d);
-        t = edmi__dw_mul(t, t);
-        t = edmi__dw_mul(edmi__dw_mul(t, t), t);
-        *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add_r(t, -EDMI__ONE)),
-                            EDMI_R(4.0) * a);
-        m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
-        break;
-    case EDMI_POT_INVERSE:
-    default: /* user potentials are bounded by edmi__user_dv instead */
-        *v = edmi__dw_div(edmi__dw_of(-a), d);
-        m = edmi__abs(a) / d.hi;
-        break;
+#endif
+    for (i = 0; i < sys->n_forced; i++)
+        acc[2 * sys->forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->forced[i]]);
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_link *lk = &sys->link[j];
+        const edmi_link_ws *w = &work->lw[j];
+        edmi_real r1[3], rm[3], k[9], kmax = EDMI__ZERO, x, nrm, qb;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        for (i = 0; i < 3; i++)
+            rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+        edmi__link_tangent(w, dt, k);
+        for (i = 0; i < 9; i++)
+            kmax = edmi__max(kmax, edmi__abs(k[i]));
+        if (edmi__is_linear(&lk->pot)) /* GE's tangent is 0 where d_n+1 = 0, its kink; the
+                                          force's slope around it is up to dt k */
+            kmax = edmi__max(kmax, dt * edmi__abs(lk->pot.a));
+        nrm = edmi__norm(rm);
+        qb = lk->b == EDMI_ANCHOR ? EDMI_EPS * edmi__norm(w->x1) : acc[2 * lk->b];
+        x = EDMI_R(4.0) * (EDMI_EPS * dt * edmi__abs(w->beta) * nrm +
+                           EDMI_R(3.0) * kmax * (EDMI_EPS * nrm + acc[2 * lk->a] + qb)) +
+            w->noise;
+        acc[2 * lk->a + 1] += x;
+        if (lk->b != EDMI_ANCHOR)
+            acc[2 * lk->b + 1] += x;
     }
-    *err = EDMI__DW_ERR * m + edmi__pot_tiny(pot, d.hi, s.hi, m);
+#if EDMI_MAX_DAMPERS > 0
+    for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
+        const edmi_link *lk = &sys->link[sys->damper[j].link];
+        const edmi_link_ws *w = &work->lw[sys->damper[j].link];
+        edmi_real r1[3], x, qb;
+        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+        qb = lk->b == EDMI_ANCHOR ? EDMI_EPS * edmi__norm(w->x1) : acc[2 * lk->b];
+        x = EDMI_R(4.0) * sys->damper[j].c *
+            (EDMI_EPS * (edmi__norm(w->r0) + edmi__norm(r1)) + acc[2 * lk->a] + qb);
+        acc[2 * lk->a + 1] += x;
+        if (lk->b != EDMI_ANCHOR)
+            acc[2 * lk->b + 1] += x;
+    }
+#endif
+}
+
+/* The largest noise of edmi__noise over the bodies' scales: what the scaled residual cannot
+ * fall below. Computed only when Newton's residual stopped halving. */
+static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
+{
+    edmi_real fl = EDMI__ZERO;
+    int a;
+    edmi__noise(sys, work, dt);
+    for (a = 0; a < sys->n_bodies; a++)
+        fl = edmi__max(fl, edmi__max(work->rhs[2 * a] / work->sq[a],
+                                     work->rhs[2 * a + 1] / work->sp[a]));
+    return fl;
+}
+
+/* Whether the iterate solves the scheme's equations to within f times its round-off noise,
+ * body by body: |R_q,a| <= f noise_q,a and |R_p,a| <= f noise_p,a (edmi__noise). The test
+ * every successful step passes (edmi.h, EDMI_STOP_CONVERGED): judged by the terms' own
+ * magnitudes, not by the predictor's residual, which deep in a repulsive wall is 1e30 and
+ * made an untouched iterate look converged. */
+#ifdef EDMI_DEBUG_ACCEPT
+void edmi_debug_accept(edmi_real x); /* measurement hook: the largest |R| / noise of a stop */
+#endif
+/* The test above from lower bounds of the magnitudes alone, |q_n| + |q1| and |p_n| + |p1|
+ * by their largest components, and |R| <= 2 max |R_i|: where it holds the full test holds
+ * too. Newton's floor is a few eps of these, so a converged step rarely needs the full sum
+ * (half of a float spring step's Newton cost otherwise). */
+static edmi_real edmi__max_abs3(const edmi_real v[3])
+{
+    return edmi__max(edmi__abs(v[0]), edmi__max(edmi__abs(v[1]), edmi__abs(v[2])));
+}
+
+static int edmi__solved_below(const edmi_system *sys, const edmi_workspace *work, edmi_real f)
+{
+    int a;
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        edmi_real q = edmi__max_abs3(bd->q) + edmi__max_abs3(work->q1[a]);
+        edmi_real p = edmi__max_abs3(bd->p) + edmi__max_abs3(work->p1[a]);
+        if (!(EDMI_R(2.0) * edmi__max_abs3(work->rq[a]) <= f * EDMI_EPS * q) ||
+            !(EDMI_R(2.0) * edmi__max_abs3(work->rp[a]) <= f * EDMI_EPS * p) ||
+            !edmi__finite(q) || !edmi__finite(p))
+            return 0;
+    }
+    return 1;
+}
+
+static int edmi__solved(const edmi_system *sys, edmi_workspace *work, edmi_real dt, edmi_real f)
+{
+    int a;
+#ifndef EDMI_DEBUG_ACCEPT
+    if (edmi__solved_below(sys, work, f))
+        return 1;
+#endif
+    edmi__noise(sys, work, dt);
+#ifdef EDMI_DEBUG_ACCEPT
+    {
+        edmi_real x = EDMI__ZERO;
+        for (a = 0; a < sys->n_bodies; a++)
+            x = edmi__max(x, edmi__max(edmi__norm(work->rq[a]) / work->rhs[2 * a],
+                                       edmi__norm(work->rp[a]) / work->rhs[2 * a + 1]));
+        if (f == EDMI__SOLVED)
+            edmi_debug_accept(x);
+    }
+#endif
+    for (a = 0; a < sys->n_bodies; a++) /* a noise beyond the range judges nothing */
+        if (!(edmi__norm(work->rq[a]) <= f * work->rhs[2 * a]) ||
+            !(edmi__norm(work->rp[a]) <= f * work->rhs[2 * a + 1]) ||
+            !edmi__finite(work->rhs[2 * a]) || !edmi__finite(work->rhs[2 * a + 1]))
+            return 0;
+    return 1;
+}
+
+/* The paper's predictor q_n+1,(0) = q_n, p_n+1,(0) = p_n, and its residual. */
+static edmi_status edmi__predictor(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                   edmi_step_result *res)
+{
+    int a;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(sys->body[a].q, work->q1[a]);
+        edmi__copy3(sys->body[a].p, work->p1[a]);
+    }
+    return edmi__residual(sys, work, dt, (const edmi_real (*)[3])work->q1,
+                          (const edmi_real (*)[3])work->p1, work->rq, work->rp,
+                          &res->lg_switches);
+}
+
+/* The explicit predictor (edmi__newton): from the residual at (q_n, p_n), R_p = the impulse
+ * of the forces over the step with the sign of R_p, p = p_n - R_p, q = q_n + dt/(2m)(p_n + p);
+ * evaluated, with *r its scaled residual. */
+static edmi_status edmi__explicit_predictor(const edmi_system *sys, edmi_workspace *work,
+                                            edmi_real dt, edmi_real *r, edmi_step_result *res)
+{
+    int a, i;
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        for (i = 0; i < 3; i++) {
+            work->p1[a][i] = bd->p[i] - work->rp[a][i];
+            work->q1[a][i] = bd->q[i] + dt / (EDMI_R(2.0) * bd->m) * (bd->p[i] + work->p1[a][i]);
+        }
+    }
+    return edmi__evaluate(sys, work, dt, r, res);
+}
+
+/* Whether a chord correction (the last factors of the Newton matrix used again) pays: when
+ * factoring, ~n kb^2 multiply-adds for n = 3 N unknowns and half-bandwidth kb, costs more
+ * than a residual evaluation, a few hundred operations per link. A chord correction
+ * contracts linearly (the next correction ~ c_l^2 / c_l-1, not c_l^3 / c_l-1^2): measured
+ * on the 10-body all-pairs scene, both precisions, it converges in as many corrections as
+ * Newton. One-body systems solve 3x3 in closed form and never reuse. */
+#define EDMI__CHORD_RATE (EDMI_R(1.0) / EDMI_R(8.0))
+
+static int edmi__chord_pays(const edmi_system *sys, const edmi_workspace *work)
+{
+    long n = 3L * sys->n_bodies, kb = work->kb;
+    return n * kb * kb > 256L * sys->n_links;
+}
+
+/* A residual that stopped halving within this factor of its round-off noise is there. */
+#define EDMI__NOISE_FACTOR EDMI_R(8.0)
+
+/* The multi-corrector from the evaluated predictor. Newton stops (edmi_stop):
+ *  - at the optional tol_r / tol_a;
+ *  - CONVERGED when the next correction, predicted from the last two in Newton's quadratic
+ *    regime (c_l+1 = C c_l^2 with C = c_l / c_l-1^2, so c_l+1 = c_l^3 / c_l-1^2, taken only
+ *    when the last two corrections each contracted by 4 or more and the residual is in its
+ *    quadratic tail too, not risen and below sqrt(eps) r_0: at omega dt = 100 the Newton
+ *    matrix is ~1e4 I, and a small correction can follow a large one far from the root),
+ *    would be below eps in the scaled norm: it could not move the iterate
+ *    by a unit roundoff. Or when a full correction (or the residual) is exactly 0. On the
+ *    paper's spring: 2 corrections in float, 2-3 in double;
+ *  - STALLED when the residual's noise is above eps: it stopped halving, without more than
+ *    doubling, after the quadratic regime (two residuals below sqrt(eps) r_0; a residual that
+ *    grew more is a stiff step's detour, on which PT at omega dt = 100 gained 12 J of 1e4),
+ *    or it stopped halving within 8x its estimated round-off noise
+ *    (edmi__noise_floor; measured: the LG quotient in float on a circular orbit, |d1 - d0|
+ *    ~ 1e-6, noise ~1e-2, where Newton otherwise cycles between two iterates for ever; GE in
+ *    float on 16 LJ bodies near equilibrium, whose convex and concave halves cancel, noise
+ *    ~1e-4 r_0). Unlike a floor estimate that accepts any residual below it, this stops only
+ *    once the residual has stopped falling. */
+static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                edmi_step_result *res)
+{
+    const edmi_params *prm = &sys->params;
+    edmi_real r = res->residual0, rprev, moved = EDMI__ONE, c, cprev = EDMI__ZERO;
+    edmi_real cprev2 = EDMI_REAL_MAX;
+    edmi_status st;
+    int l, halvings_before, switches_before, chord = 0, contracted = 0, chord_ok = 1;
+    if (!(r > EDMI__ZERO))
+        return EDMI_OK;
+    for (l = 1;; l++) {
+        /* a chord correction where the factorisation costs more than it saves: after a full
+         * correction that contracted (the first, Newton's, always counts) to a residual in
+         * Newton's quadratic tail, below sqrt(eps) r_0 (from a far predictor the first
+         * tangent is a poor one: on the solar system at dt = 18.25 d a chord correction at a
+         * residual of 275 raised it 4e5-fold), and only when
+         * Newton runs to its floor: with tol_r or tol_a a linearly contracting iteration stops
+         * just below the tolerance, where Newton's quadratic last step lands far below it
+         * (measured: the solar system with the paper's tol_R = 1e-12, LG-Q/GE, max |dH| 3.1e-11
+         * instead of 2.3e-12, in 10.2 corrections per step instead of 3.4). A chord
+         * correction that did not contract by 8 or raised the residual ends the chord for the
+         * step (alternating, PM on the solar system at dt = 18.25 d took up to 37 corrections
+         * where Newton alone takes 15, and failed at l_max = 20) */
+        chord = chord_ok && sys->n_bodies > 1 && moved == EDMI__ONE &&
+                (l == 1 ? work->kept
+                        : contracted && (work->kept || r <= EDMI__SQRT_EPS * res->residual0)) &&
+                !(prm->tol_r > EDMI__ZERO) && !(prm->tol_a > EDMI__ZERO) &&
+                edmi__chord_pays(sys, work);
+        switches_before = res->lg_switches;
+        st = edmi__newton_update(sys, work, dt, chord);
+        if (st == EDMI_ERR_SINGULAR && l == 1) {
+            /* Singular at the paper's predictor (q_n, p_n): a compressed link at dt beyond
+             * 2 sqrt(m / |beta|) can make the transverse stiffness cancel the identity exactly
+             * there, and a body at rest would stay on that point for ever. Start once more
+             * from the explicit predictor p = p_n - R_p(q_n, p_n) (the forces' impulse),
+             * q = q_n + dt/(2m) (p_n + p). */
+            st = edmi__explicit_predictor(sys, work, dt, &r, res);
+            if (st == EDMI_OK)
+                st = edmi__newton_update(sys, work, dt, 0);
+        }
+        if (st != EDMI_OK)
+            return st;
+        c = edmi__scaled_norm(sys, work, work->rhs, (const edmi_real (*)[3])work->dp);
+        rprev = r;
+        halvings_before = res->halvings;
+        if (l == 1 && chord) { /* the last step's factors, taken once, never halved */
+            edmi__move(sys, work, EDMI__ONE);
+            st = edmi__evaluate(sys, work, dt, &r, res);
+            moved = EDMI__ONE;
+        } else {
+            st = edmi__line_search(sys, work, dt, &r, res, &moved);
+        }
+        if (l == 1 && chord && !(st == EDMI_OK && r <= EDMI__HALF * rprev)) {
+            /* the last step's factors did not halve the predictor's residual (or left the
+             * domain): back to the predictor, and the correction with its own matrix. At
+             * most one linear solve and two evaluations more than a step without them. */
+            res->lg_switches = switches_before;
+            st = edmi__predictor(sys, work, dt, res);
+            if (st != EDMI_OK)
+                return st;
+            r = edmi__scaled_residual(sys, work);
+            work->kept = 0;
+            l = 0;
+            continue;
+        }
+        if (st != EDMI_OK)
+            return st;
+        res->iterations = l;
+        res->residual = r;
+        res->correction = c * moved;
+        if (prm->tol_r > EDMI__ZERO && r <= prm->tol_r * res->residual0 &&
+            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_r / EDMI_EPS))) {
+            res->stop = EDMI_STOP_TOL_R;
+            return EDMI_OK;
+        }
+        if (prm->tol_a > EDMI__ZERO && r <= prm->tol_a &&
+            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_a / EDMI_EPS))) {
+            res->stop = EDMI_STOP_TOL_A;
+            return EDMI_OK;
+        }
+        if (moved == EDMI__ONE && (c == EDMI__ZERO || r == EDMI__ZERO ||
+                                   (l >= 2 && r <= rprev && r <= EDMI__SQRT_EPS * res->residual0 &&
+                                    c <= EDMI_R(0.25) * cprev &&
+                                    cprev <= EDMI_R(0.25) * cprev2 &&
+                                    (chord ? c * c <= EDMI_EPS * cprev
+                                           : c * c * c <= EDMI_EPS * cprev * cprev)))) {
+            if (r == EDMI__ZERO || edmi__solved(sys, work, dt, EDMI__SOLVED)) {
+                res->stop = EDMI_STOP_CONVERGED;
+                return EDMI_OK;
+            }
+            if (c == EDMI__ZERO) /* the iterate cannot move: every further correction is 0 */
+                return EDMI_ERR_NO_CONVERGENCE;
+        }
+        contracted = l == 1 || c <= EDMI__CHORD_RATE * cprev;
+        if (chord && (!contracted || r > rprev)) {
+            if (work->kept)
+                work->kept = 0; /* the last step's matrix is too old here: factor anew */
+            else
+                chord_ok = 0;
+        }
+        cprev2 = l >= 2 ? cprev : EDMI_REAL_MAX;
+        cprev = res->correction;
+        if (l >= 2 && r > EDMI__HALF * rprev &&
+            ((rprev <= EDMI__SQRT_EPS * res->residual0 && r <= EDMI__SQRT_EPS * res->residual0 &&
+              r <= EDMI_R(2.0) * rprev) ||
+             r <= EDMI__NOISE_FACTOR * edmi__noise_floor(sys, work, dt)) &&
+            edmi__solved(sys, work, dt, EDMI__SOLVED)) {
+            res->stop = EDMI_STOP_STALLED;
+            return EDMI_OK;
+        }
+        if (l >= prm->l_max) /* still pushed out of the domain, or just slow */
+            return res->halvings > halvings_before ? EDMI_ERR_DIVERGED : EDMI_ERR_NO_CONVERGENCE;
+    }
 }
 
 /* ==========================================================================================
- * Energy-safe stepping (docs/energy-safe.md).
+ * The passivity guard
  *
- * With the guard on, every stored step satisfies, T being the energy tank (sys->tank),
+ * docs/energy-safe.md and docs/guard.md. With the guard on, every stored step satisfies, T
+ * being the energy tank (sys->tank),
  *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor + T_n - T_n+1,
  *     0 <= T_n+1 <= cap_n+1 = tank_cap eps S_n+1        (S: the magnitude of H's terms)
  * exactly, for the stored values and the reported works. Summed over any window m..n of
@@ -2078,19 +2433,28 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
  * Franken, Stramigioli et al.). tank_cap = 0 is the per-step inequality H_n+1 - H_n <= work.
  *
  * Rounding Newton's solution to the grid moves H by ~eps S either way, every step: a guard
- * that removed every rise would drain ~0.15 eps S per step whether the scheme dissipates or
- * not (measured in float). The tank absorbs that noise, so the guard changes the state only
- * when the tank cannot cover a rise (~0.1-0.5 % of float steps at the default capacity).
+ * that removed every rise would drain energy whether the scheme dissipates or not. The tank
+ * absorbs that noise, so the guard changes the state only when the tank cannot cover a rise.
  * The step's change is certified by the cheapest evaluation that settles it:
  *  1. plain: working precision with an a-priori bound relative to each term's size (Higham,
- *     ch. 3), taken when the step dissipates more than the bound and the tank stays full (it
- *     then loses nothing against 2.): most double steps of GE, PM and PT;
+ *     ch. 3), taken when the step dissipates more than the bound and the tank stays full;
  *  2. double-word (Joldes, Muller, Popescu): error ~eps^2 S; near the bottom of the range on
  *     values scaled by a power of two (exact), so that a system coming to rest stays
  *     certified with the same relative resolution;
  *  3. only if the tank cannot cover the rise: the guard moves the state (an impulse along a
  *     link, energy-aware rounding, a drag) to one whose rise it covers.
+ * The subsections follow that order: the change of H and its bound, the tank, the
+ * certificate, the rounding, impulse and drag, and the end of a step that applies them.
  * ======================================================================================== */
+
+static int edmi__guard_on(const edmi_params *p)
+{
+    return p->guard == EDMI_GUARD_ON ||
+           (p->guard == EDMI_GUARD_AUTO &&
+            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+}
+
+/* ---- the change of H and its bound ------------------------------------------------------ */
 
 /* The energy bookkeeping of one step in double-word arithmetic. Every energy here is scale^2
  * times the real one (edmi__set_scale: 1 unless the energies are near the bottom of the
@@ -2328,36 +2692,6 @@ static edmi_real edmi__plain_tiny(const edmi_system *sys, const edmi_workspace *
     }
     return t * (EDMI__ONE + EDMI_R(4.0) * (edmi_real)sys->n_links * EDMI_EPS);
 }
-
-/* t - e - m rounded down (a lower bound on the exact value): the tank t >= 0 after a step whose
- * excess over the work is at most e + m, m >= 0. Its two roundings err by at most 1.01 eps and
- * the last subtraction by 1.5 eps of A = t + |e| + m: 4 eps A covers them. */
-static edmi_real edmi__tank_after(edmi_real t, edmi_real e, edmi_real m)
-{
-    edmi_real d = (t - e) - m;
-    return d - (EDMI_R(4.0) * EDMI_EPS * (t + edmi__abs(e) + m) + EDMI__REAL_MIN);
-}
-
-/* The default capacity of the energy tank (edmi_params.tank_cap), in units of eps times the
- * magnitude S of H's terms: 256, i.e. 3.1e-5 S in float and 5.7e-14 S in double. Newton's
- * solution rounded to the grid moves H by sigma ~ 0.04-0.13 eps S either way each step
- * (measured: the paper's spring, circular LJ and gravity orbits); the tank holds that noise as
- * a random walk between 0 and its capacity, and the guard acts (and removes energy) only where
- * it would run dry. A walk between two walls of distance C loses ~sigma^2 / (2 C) per step at
- * the upper one (the tank overflowing), which the guard then takes back at the lower: the
- * drift is linear in the steps where the noise's own is ~sigma sqrt(N). 256 keeps the first
- * below the second for ~10^7 steps, about three hours at 1 kHz: over 10^7 float steps of a
- * circular LJ orbit guarded PM drifts 1.3x float MP and LG, at 64 2.4x (make orbits). */
-#define EDMI__TANK_CAP EDMI_R(256.0)
-
-/* Where the guard must move the state, it aims to leave this fraction of the capacity in the
- * tank (and takes any state within as much of that): 1/128, 2 eps S at the default capacity.
- * Replaying measured noise through a tank (capacity 64, 10^5 float steps of the spring with
- * PM and LG, circular LJ and gravity orbits), leaving 2 eps S took 20 to 50 times fewer moves
- * than leaving it empty (the next steps' noise, ~0.1 eps S each, would empty it again), for
- * 1 to 17 % more energy removed in all; leaving more costs the orbits' short runs (a 20,000-
- * step LJ orbit in double: one move of 8 eps S exceeded unguarded PM's whole drift). */
-#define EDMI__TANK_LIFT (EDMI_R(1.0) / EDMI_R(128.0))
 
 /* Energies below this are scaled up before the double-word evaluation: there its error bound's
  * underflow allowance (EDMI__DW_TINY times a potential's coefficients) would exceed eps^2 of
@@ -2743,6 +3077,40 @@ static void edmi__delta_k(const edmi_system *sys, edmi_workspace *work, const ed
     }
 }
 
+/* ---- the energy tank -------------------------------------------------------------------- */
+
+/* t - e - m rounded down (a lower bound on the exact value): the tank t >= 0 after a step whose
+ * excess over the work is at most e + m, m >= 0. Its two roundings err by at most 1.01 eps and
+ * the last subtraction by 1.5 eps of A = t + |e| + m: 4 eps A covers them. */
+static edmi_real edmi__tank_after(edmi_real t, edmi_real e, edmi_real m)
+{
+    edmi_real d = (t - e) - m;
+    return d - (EDMI_R(4.0) * EDMI_EPS * (t + edmi__abs(e) + m) + EDMI__REAL_MIN);
+}
+
+/* The default capacity of the energy tank (edmi_params.tank_cap), in units of eps times the
+ * magnitude S of H's terms: 256, i.e. 3.1e-5 S in float and 5.7e-14 S in double. Newton's
+ * solution rounded to the grid moves H by sigma ~ 0.04-0.13 eps S either way each step
+ * (measured: the paper's spring, circular LJ and gravity orbits); the tank holds that noise as
+ * a random walk between 0 and its capacity, and the guard acts (and removes energy) only where
+ * it would run dry. A walk between two walls of distance C loses ~sigma^2 / (2 C) per step at
+ * the upper one (the tank overflowing), which the guard then takes back at the lower: the
+ * drift is linear in the steps where the noise's own is ~sigma sqrt(N). 256 keeps the first
+ * below the second for ~10^7 steps, about three hours at 1 kHz: over 10^7 float steps of a
+ * circular LJ orbit guarded PM drifts 1.3x float MP and LG, at 64 2.4x (make orbits). */
+#define EDMI__TANK_CAP EDMI_R(256.0)
+
+/* Where the guard must move the state, it aims to leave this fraction of the capacity in the
+ * tank (and takes any state within as much of that): 1/128, 2 eps S at the default capacity.
+ * Replaying measured noise through a tank (capacity 64, 10^5 float steps of the spring with
+ * PM and LG, circular LJ and gravity orbits), leaving 2 eps S took 20 to 50 times fewer moves
+ * than leaving it empty (the next steps' noise, ~0.1 eps S each, would empty it again), for
+ * 1 to 17 % more energy removed in all; leaving more costs the orbits' short runs (a 20,000-
+ * step LJ orbit in double: one move of 8 eps S exceeded unguarded PM's whole drift). */
+#define EDMI__TANK_LIFT (EDMI_R(1.0) / EDMI_R(128.0))
+
+/* ---- the certificate -------------------------------------------------------------------- */
+
 /* The guard's state between its moves: the excess e of the stored state's H change over the
  * work, its certification margin, the tank it may draw on, and where to aim. All in the
  * balance's (scaled) units. */
@@ -2776,6 +3144,8 @@ static int edmi__excess(const edmi__balance *bal, edmi__aim *t)
     /* m NaN (an error bound 0/0 or inf - inf at the edge of the range) is no margin of 0 */
     return edmi__finite(x.hi) && edmi__finite(m) && edmi__finite(t->margin);
 }
+
+/* ---- the rounding ----------------------------------------------------------------------- */
 
 /* One stored momentum component the energy-aware rounding may move: body a, axis i, value
  * p, grid spacing u (one unit in the last place) and 2m. */
@@ -3123,6 +3493,8 @@ static void edmi__round_apply(edmi_workspace *work, const edmi__comp *c, int n, 
         work->p1[c[j].a][c[j].i] = c[j].p + (edmi_real)k[j] * c[j].u;
 }
 
+/* ---- impulse and drag ------------------------------------------------------------------- */
+
 /* Change K by about `goal` with one impulse along the link that can best do it: equal and
  * opposite on a pair's two bodies (keeps L, J, C), radial on an anchored body (keeps J about
  * its anchor). The impulse lambda along the unit link vector u changes K by
@@ -3230,6 +3602,8 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
             work->p1[a][i] -= alpha * (work->p1[a][i] - edmi__mass_row(sys, a) * v[i]);
     return 1;
 }
+
+/* ---- the choice of moves ---------------------------------------------------------------- */
 
 /* Re-evaluate K's change for the current work->p1, and the aim. 0 if beyond range. */
 static int edmi__reaim(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
@@ -3535,6 +3909,8 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     return EDMI_OK;
 }
 
+/* ---- a step's end, its energy balance and the guard's verdict --------------------------- */
+
 /* A link's end state is one the next step starts from (edmi__prepare_links): a distance
  * > 0 (or 0 on a linear spring), a user potential that accepts it, and V and V' finite there.
  * MP evaluates only the mid-point, and LG's alternate forces only d_n and the mean length, so
@@ -3825,6 +4201,15 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
     return edmi__finite(res->dh) ? EDMI_OK : EDMI_ERR_PASSIVITY;
 }
 
+/* ==========================================================================================
+ * One attempt, the fallback and substeps
+ *
+ * An attempt is the predictor, Newton and the step's end (the energy balance and the guard).
+ * A failed attempt (SINGULAR, NO_CONVERGENCE, DIVERGED, PASSIVITY, RANGE) is retried as
+ * substeps (params.substep_levels), and where that still fails stores the fallback state
+ * (params.fallback): every step then ends in bounded time with a passive state.
+ * ======================================================================================== */
+
 /* t += dt with Kahan's compensation: after n steps t is off by ~eps t, not ~n eps t, which
  * keeps the centre-of-mass invariant C(t) = (sum m q - t L)/M free of clock drift. */
 static void edmi__advance_clock(edmi_system *sys, edmi_real dt)
@@ -3856,344 +4241,6 @@ static void edmi__clear_result(edmi_step_result *res)
     res->substeps = 0;
     res->fallbacks = 0;
     res->cause = EDMI_OK;
-}
-
-/* Every stop that returns EDMI_OK has each body's residual within this factor of its
- * round-off noise (edmi__solved; edmi.h states the bound). */
-#define EDMI__SOLVED ((edmi_real)EDMI_SOLVED)
-
-/* The round-off noise of each body's residual at the current iterate, into work->rhs (which
- * the next correction overwrites): rhs[2a] for R_q, rhs[2a + 1] for R_p, EDMI_EPS times the
- * magnitudes summed into them. R_q = q1 - q0 - h (p0 + p1) (plus the coupled masses' rows):
- * |q_n| + |q1| + dt/m (|p_n| + |p1|) =: Q_a. R_p = p1 - p0 + the impulses: |p_n| + |p1|, the
- * ports' and the field's dt |F|, and per link the impulse dt |beta r_m| and its tangent block
- * (d f / d r_n+1, ~dt V'') times 3 (|r_m| + Q_a + Q_b): the grid of the iterate's own
- * positions and the resolution Newton stops at (a correction below eps of the motion), which
- * near rest away from the origin (|r| ~ 1e-15 at |q| ~ 1) and on a stiff step (omega dt =
- * 100, dt |p| / m >> |q|) is far above the force's own rounding; plus the potential's
- * cancelling terms (LJ's two parts, GE's convex and concave halves, the LG quotient's
- * eps |V| / |d1 - d0|: edmi_link_ws.noise), and per damper c (|r_n| + |r1| + Q_a + Q_b). All
- * of it from the iterate and the step's start: nothing a far predictor inflates. */
-static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
-{
-    const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
-    edmi_real *acc = work->rhs;
-    int a, j, i;
-    for (a = 0; a < sys->n_bodies; a++) {
-        const edmi_body *bd = &sys->body[a];
-        edmi_real np = edmi__norm(bd->p) + edmi__norm(work->p1[a]);
-        /* the subnormal unit REAL_MIN eps too: below the smallest normal, rounding is absolute
-         * (a body settling onto its anchor in float reaches q ~ 1e-41, where Newton's
-         * residual cannot fall below ~1e-4 of its scales) */
-        acc[2 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np) +
-                     EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
-        acc[2 * a + 1] = EDMI_EPS * np + EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
-        if (sys->has_field)
-            acc[2 * a + 1] += EDMI_EPS * dt * edmi__abs(edmi__mass_row(sys, a)) *
-                              edmi__norm(sys->g);
-    }
-#if EDMI_MAX_MASS_GAP > 0
-    for (a = 1; a < sys->n_bodies; a++) /* R_q's coupled terms m_ab / m_aa (q1_b - q_n,b) */
-        for (j = 0; j < EDMI_MAX_MASS_GAP && j < a; j++) {
-            edmi_real m = edmi__abs(sys->mass_off[a][j]);
-            int b = a - 1 - j;
-            acc[2 * a] += EDMI_EPS * m / sys->body[a].m *
-                          (edmi__norm(q1[b]) + edmi__norm(sys->body[b].q));
-            acc[2 * b] += EDMI_EPS * m / sys->body[b].m *
-                          (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q));
-        }
-#endif
-    for (i = 0; i < sys->n_forced; i++)
-        acc[2 * sys->forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->forced[i]]);
-    for (j = 0; j < sys->n_links; j++) {
-        const edmi_link *lk = &sys->link[j];
-        const edmi_link_ws *w = &work->lw[j];
-        edmi_real r1[3], rm[3], k[9], kmax = EDMI__ZERO, x, nrm, qb;
-        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
-        for (i = 0; i < 3; i++)
-            rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
-        edmi__link_tangent(w, dt, k);
-        for (i = 0; i < 9; i++)
-            kmax = edmi__max(kmax, edmi__abs(k[i]));
-        if (edmi__is_linear(&lk->pot)) /* GE's tangent is 0 where d_n+1 = 0, its kink; the
-                                          force's slope around it is up to dt k */
-            kmax = edmi__max(kmax, dt * edmi__abs(lk->pot.a));
-        nrm = edmi__norm(rm);
-        qb = lk->b == EDMI_ANCHOR ? EDMI_EPS * edmi__norm(w->x1) : acc[2 * lk->b];
-        x = EDMI_R(4.0) * (EDMI_EPS * dt * edmi__abs(w->beta) * nrm +
-                           EDMI_R(3.0) * kmax * (EDMI_EPS * nrm + acc[2 * lk->a] + qb)) +
-            w->noise;
-        acc[2 * lk->a + 1] += x;
-        if (lk->b != EDMI_ANCHOR)
-            acc[2 * lk->b + 1] += x;
-    }
-#if EDMI_MAX_DAMPERS > 0
-    for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
-        const edmi_link *lk = &sys->link[sys->damper[j].link];
-        const edmi_link_ws *w = &work->lw[sys->damper[j].link];
-        edmi_real r1[3], x, qb;
-        edmi__sub(q1[lk->a], edmi__end_b(lk, w, q1), r1);
-        qb = lk->b == EDMI_ANCHOR ? EDMI_EPS * edmi__norm(w->x1) : acc[2 * lk->b];
-        x = EDMI_R(4.0) * sys->damper[j].c *
-            (EDMI_EPS * (edmi__norm(w->r0) + edmi__norm(r1)) + acc[2 * lk->a] + qb);
-        acc[2 * lk->a + 1] += x;
-        if (lk->b != EDMI_ANCHOR)
-            acc[2 * lk->b + 1] += x;
-    }
-#endif
-}
-
-/* The largest noise of edmi__noise over the bodies' scales: what the scaled residual cannot
- * fall below. Computed only when Newton's residual stopped halving. */
-static edmi_real edmi__noise_floor(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
-{
-    edmi_real fl = EDMI__ZERO;
-    int a;
-    edmi__noise(sys, work, dt);
-    for (a = 0; a < sys->n_bodies; a++)
-        fl = edmi__max(fl, edmi__max(work->rhs[2 * a] / work->sq[a],
-                                     work->rhs[2 * a + 1] / work->sp[a]));
-    return fl;
-}
-
-/* Whether the iterate solves the scheme's equations to within f times its round-off noise,
- * body by body: |R_q,a| <= f noise_q,a and |R_p,a| <= f noise_p,a (edmi__noise). The test
- * every successful step passes (edmi.h, EDMI_STOP_CONVERGED): judged by the terms' own
- * magnitudes, not by the predictor's residual, which deep in a repulsive wall is 1e30 and
- * made an untouched iterate look converged. */
-#ifdef EDMI_DEBUG_ACCEPT
-void edmi_debug_accept(edmi_real x); /* measurement hook: the largest |R| / noise of a stop */
-#endif
-/* The test above from lower bounds of the magnitudes alone, |q_n| + |q1| and |p_n| + |p1|
- * by their largest components, and |R| <= 2 max |R_i|: where it holds the full test holds
- * too. Newton's floor is a few eps of these, so a converged step rarely needs the full sum
- * (half of a float spring step's Newton cost otherwise). */
-static edmi_real edmi__max_abs3(const edmi_real v[3])
-{
-    return edmi__max(edmi__abs(v[0]), edmi__max(edmi__abs(v[1]), edmi__abs(v[2])));
-}
-
-static int edmi__solved_below(const edmi_system *sys, const edmi_workspace *work, edmi_real f)
-{
-    int a;
-    for (a = 0; a < sys->n_bodies; a++) {
-        const edmi_body *bd = &sys->body[a];
-        edmi_real q = edmi__max_abs3(bd->q) + edmi__max_abs3(work->q1[a]);
-        edmi_real p = edmi__max_abs3(bd->p) + edmi__max_abs3(work->p1[a]);
-        if (!(EDMI_R(2.0) * edmi__max_abs3(work->rq[a]) <= f * EDMI_EPS * q) ||
-            !(EDMI_R(2.0) * edmi__max_abs3(work->rp[a]) <= f * EDMI_EPS * p) ||
-            !edmi__finite(q) || !edmi__finite(p))
-            return 0;
-    }
-    return 1;
-}
-
-static int edmi__solved(const edmi_system *sys, edmi_workspace *work, edmi_real dt, edmi_real f)
-{
-    int a;
-#ifndef EDMI_DEBUG_ACCEPT
-    if (edmi__solved_below(sys, work, f))
-        return 1;
-#endif
-    edmi__noise(sys, work, dt);
-#ifdef EDMI_DEBUG_ACCEPT
-    {
-        edmi_real x = EDMI__ZERO;
-        for (a = 0; a < sys->n_bodies; a++)
-            x = edmi__max(x, edmi__max(edmi__norm(work->rq[a]) / work->rhs[2 * a],
-                                       edmi__norm(work->rp[a]) / work->rhs[2 * a + 1]));
-        if (f == EDMI__SOLVED)
-            edmi_debug_accept(x);
-    }
-#endif
-    for (a = 0; a < sys->n_bodies; a++) /* a noise beyond the range judges nothing */
-        if (!(edmi__norm(work->rq[a]) <= f * work->rhs[2 * a]) ||
-            !(edmi__norm(work->rp[a]) <= f * work->rhs[2 * a + 1]) ||
-            !edmi__finite(work->rhs[2 * a]) || !edmi__finite(work->rhs[2 * a + 1]))
-            return 0;
-    return 1;
-}
-
-/* The paper's predictor q_n+1,(0) = q_n, p_n+1,(0) = p_n, and its residual. */
-static edmi_status edmi__predictor(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                                   edmi_step_result *res)
-{
-    int a;
-    for (a = 0; a < sys->n_bodies; a++) {
-        edmi__copy3(sys->body[a].q, work->q1[a]);
-        edmi__copy3(sys->body[a].p, work->p1[a]);
-    }
-    return edmi__residual(sys, work, dt, (const edmi_real (*)[3])work->q1,
-                          (const edmi_real (*)[3])work->p1, work->rq, work->rp,
-                          &res->lg_switches);
-}
-
-/* The explicit predictor (edmi__newton): from the residual at (q_n, p_n), R_p = the impulse
- * of the forces over the step with the sign of R_p, p = p_n - R_p, q = q_n + dt/(2m)(p_n + p);
- * evaluated, with *r its scaled residual. */
-static edmi_status edmi__explicit_predictor(const edmi_system *sys, edmi_workspace *work,
-                                            edmi_real dt, edmi_real *r, edmi_step_result *res)
-{
-    int a, i;
-    for (a = 0; a < sys->n_bodies; a++) {
-        const edmi_body *bd = &sys->body[a];
-        for (i = 0; i < 3; i++) {
-            work->p1[a][i] = bd->p[i] - work->rp[a][i];
-            work->q1[a][i] = bd->q[i] + dt / (EDMI_R(2.0) * bd->m) * (bd->p[i] + work->p1[a][i]);
-        }
-    }
-    return edmi__evaluate(sys, work, dt, r, res);
-}
-
-/* Whether a chord correction (the last factors of the Newton matrix used again) pays: when
- * factoring, ~n kb^2 multiply-adds for n = 3 N unknowns and half-bandwidth kb, costs more
- * than a residual evaluation, a few hundred operations per link. A chord correction
- * contracts linearly (the next correction ~ c_l^2 / c_l-1, not c_l^3 / c_l-1^2): measured
- * on the 10-body all-pairs scene, both precisions, it converges in as many corrections as
- * Newton. One-body systems solve 3x3 in closed form and never reuse. */
-#define EDMI__CHORD_RATE (EDMI_R(1.0) / EDMI_R(8.0))
-
-static int edmi__chord_pays(const edmi_system *sys, const edmi_workspace *work)
-{
-    long n = 3L * sys->n_bodies, kb = work->kb;
-    return n * kb * kb > 256L * sys->n_links;
-}
-
-/* A residual that stopped halving within this factor of its round-off noise is there. */
-#define EDMI__NOISE_FACTOR EDMI_R(8.0)
-
-/* The multi-corrector from the evaluated predictor. Newton stops (edmi_stop):
- *  - at the optional tol_r / tol_a;
- *  - CONVERGED when the next correction, predicted from the last two in Newton's quadratic
- *    regime (c_l+1 = C c_l^2 with C = c_l / c_l-1^2, so c_l+1 = c_l^3 / c_l-1^2, taken only
- *    when the last two corrections each contracted by 4 or more and the residual is in its
- *    quadratic tail too, not risen and below sqrt(eps) r_0: at omega dt = 100 the Newton
- *    matrix is ~1e4 I, and a small correction can follow a large one far from the root),
- *    would be below eps in the scaled norm: it could not move the iterate
- *    by a unit roundoff. Or when a full correction (or the residual) is exactly 0. On the
- *    paper's spring: 2 corrections in float, 2-3 in double;
- *  - STALLED when the residual's noise is above eps: it stopped halving, without more than
- *    doubling, after the quadratic regime (two residuals below sqrt(eps) r_0; a residual that
- *    grew more is a stiff step's detour, on which PT at omega dt = 100 gained 12 J of 1e4),
- *    or it stopped halving within 8x its estimated round-off noise
- *    (edmi__noise_floor; measured: the LG quotient in float on a circular orbit, |d1 - d0|
- *    ~ 1e-6, noise ~1e-2, where Newton otherwise cycles between two iterates for ever; GE in
- *    float on 16 LJ bodies near equilibrium, whose convex and concave halves cancel, noise
- *    ~1e-4 r_0). Unlike a floor estimate that accepts any residual below it, this stops only
- *    once the residual has stopped falling. */
-static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
-                                edmi_step_result *res)
-{
-    const edmi_params *prm = &sys->params;
-    edmi_real r = res->residual0, rprev, moved = EDMI__ONE, c, cprev = EDMI__ZERO;
-    edmi_real cprev2 = EDMI_REAL_MAX;
-    edmi_status st;
-    int l, halvings_before, switches_before, chord = 0, contracted = 0, chord_ok = 1;
-    if (!(r > EDMI__ZERO))
-        return EDMI_OK;
-    for (l = 1;; l++) {
-        /* a chord correction where the factorisation costs more than it saves: after a full
-         * correction that contracted (the first, Newton's, always counts) to a residual in
-         * Newton's quadratic tail, below sqrt(eps) r_0 (from a far predictor the first
-         * tangent is a poor one: on the solar system at dt = 18.25 d a chord correction at a
-         * residual of 275 raised it 4e5-fold), and only when
-         * Newton runs to its floor: with tol_r or tol_a a linearly contracting iteration stops
-         * just below the tolerance, where Newton's quadratic last step lands far below it
-         * (measured: the solar system with the paper's tol_R = 1e-12, LG-Q/GE, max |dH| 3.1e-11
-         * instead of 2.3e-12, in 10.2 corrections per step instead of 3.4). A chord
-         * correction that did not contract by 8 or raised the residual ends the chord for the
-         * step (alternating, PM on the solar system at dt = 18.25 d took up to 37 corrections
-         * where Newton alone takes 15, and failed at l_max = 20) */
-        chord = chord_ok && sys->n_bodies > 1 && moved == EDMI__ONE &&
-                (l == 1 ? work->kept
-                        : contracted && (work->kept || r <= EDMI__SQRT_EPS * res->residual0)) &&
-                !(prm->tol_r > EDMI__ZERO) && !(prm->tol_a > EDMI__ZERO) &&
-                edmi__chord_pays(sys, work);
-        switches_before = res->lg_switches;
-        st = edmi__newton_update(sys, work, dt, chord);
-        if (st == EDMI_ERR_SINGULAR && l == 1) {
-            /* Singular at the paper's predictor (q_n, p_n): a compressed link at dt beyond
-             * 2 sqrt(m / |beta|) can make the transverse stiffness cancel the identity exactly
-             * there, and a body at rest would stay on that point for ever. Start once more
-             * from the explicit predictor p = p_n - R_p(q_n, p_n) (the forces' impulse),
-             * q = q_n + dt/(2m) (p_n + p). */
-            st = edmi__explicit_predictor(sys, work, dt, &r, res);
-            if (st == EDMI_OK)
-                st = edmi__newton_update(sys, work, dt, 0);
-        }
-        if (st != EDMI_OK)
-            return st;
-        c = edmi__scaled_norm(sys, work, work->rhs, (const edmi_real (*)[3])work->dp);
-        rprev = r;
-        halvings_before = res->halvings;
-        if (l == 1 && chord) { /* the last step's factors, taken once, never halved */
-            edmi__move(sys, work, EDMI__ONE);
-            st = edmi__evaluate(sys, work, dt, &r, res);
-            moved = EDMI__ONE;
-        } else {
-            st = edmi__line_search(sys, work, dt, &r, res, &moved);
-        }
-        if (l == 1 && chord && !(st == EDMI_OK && r <= EDMI__HALF * rprev)) {
-            /* the last step's factors did not halve the predictor's residual (or left the
-             * domain): back to the predictor, and the correction with its own matrix. At
-             * most one linear solve and two evaluations more than a step without them. */
-            res->lg_switches = switches_before;
-            st = edmi__predictor(sys, work, dt, res);
-            if (st != EDMI_OK)
-                return st;
-            r = edmi__scaled_residual(sys, work);
-            work->kept = 0;
-            l = 0;
-            continue;
-        }
-        if (st != EDMI_OK)
-            return st;
-        res->iterations = l;
-        res->residual = r;
-        res->correction = c * moved;
-        if (prm->tol_r > EDMI__ZERO && r <= prm->tol_r * res->residual0 &&
-            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_r / EDMI_EPS))) {
-            res->stop = EDMI_STOP_TOL_R;
-            return EDMI_OK;
-        }
-        if (prm->tol_a > EDMI__ZERO && r <= prm->tol_a &&
-            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_a / EDMI_EPS))) {
-            res->stop = EDMI_STOP_TOL_A;
-            return EDMI_OK;
-        }
-        if (moved == EDMI__ONE && (c == EDMI__ZERO || r == EDMI__ZERO ||
-                                   (l >= 2 && r <= rprev && r <= EDMI__SQRT_EPS * res->residual0 &&
-                                    c <= EDMI_R(0.25) * cprev &&
-                                    cprev <= EDMI_R(0.25) * cprev2 &&
-                                    (chord ? c * c <= EDMI_EPS * cprev
-                                           : c * c * c <= EDMI_EPS * cprev * cprev)))) {
-            if (r == EDMI__ZERO || edmi__solved(sys, work, dt, EDMI__SOLVED)) {
-                res->stop = EDMI_STOP_CONVERGED;
-                return EDMI_OK;
-            }
-            if (c == EDMI__ZERO) /* the iterate cannot move: every further correction is 0 */
-                return EDMI_ERR_NO_CONVERGENCE;
-        }
-        contracted = l == 1 || c <= EDMI__CHORD_RATE * cprev;
-        if (chord && (!contracted || r > rprev)) {
-            if (work->kept)
-                work->kept = 0; /* the last step's matrix is too old here: factor anew */
-            else
-                chord_ok = 0;
-        }
-        cprev2 = l >= 2 ? cprev : EDMI_REAL_MAX;
-        cprev = res->correction;
-        if (l >= 2 && r > EDMI__HALF * rprev &&
-            ((rprev <= EDMI__SQRT_EPS * res->residual0 && r <= EDMI__SQRT_EPS * res->residual0 &&
-              r <= EDMI_R(2.0) * rprev) ||
-             r <= EDMI__NOISE_FACTOR * edmi__noise_floor(sys, work, dt)) &&
-            edmi__solved(sys, work, dt, EDMI__SOLVED)) {
-            res->stop = EDMI_STOP_STALLED;
-            return EDMI_OK;
-        }
-        if (l >= prm->l_max) /* still pushed out of the domain, or just slow */
-            return res->halvings > halvings_before ? EDMI_ERR_DIVERGED : EDMI_ERR_NO_CONVERGENCE;
-    }
 }
 
 /* The failures after the input was accepted: substeps and the fallback take them over. */
@@ -4443,6 +4490,14 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     return EDMI_OK;
 }
 
+/* ==========================================================================================
+ * The step
+ *
+ * edmi_step validates, prepares the links, attempts, and commits only on success: a failing
+ * call leaves the system bit-identical. edmi_residual and edmi_tangent expose what Newton
+ * evaluates, for tests.
+ * ======================================================================================== */
+
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res)
 {
@@ -4491,10 +4546,6 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     edmi__advance_clock(sys, dt);
     return EDMI_OK;
 }
-
-/* ==========================================================================================
- * Verification entry points: the residual and tangent Newton uses.
- * ======================================================================================== */
 
 static edmi_status edmi__check_trial(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                      const void *q1, const void *p1)
@@ -4573,132 +4624,131 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
 }
 
 /* ==========================================================================================
- * Invariants: H = K + V, J, L, C(t) (sections 2 and 4.1).
+ * Building a system, and scenes
+ *
+ * The validator every entry point calls first (edmi_step, edmi_invariants_of, edmi_residual,
+ * edmi_tangent, and the builders before they write), then the builders and the scene loader.
  * ======================================================================================== */
 
-static int edmi__invariants_finite(const edmi_invariants *v)
+static int edmi__params_valid(const edmi_params *p)
 {
-    return edmi__finite(v->h) && edmi__finite(v->k) && edmi__finite(v->v) &&
-           edmi__finite3(v->j) && edmi__finite3(v->l) && edmi__finite3(v->c);
+    return (p->scheme == EDMI_MP || p->scheme == EDMI_LG || p->scheme == EDMI_GE ||
+            p->scheme == EDMI_PM || p->scheme == EDMI_PT) &&
+           (p->lg_form == EDMI_LG_CLOSED || p->lg_form == EDMI_LG_QUOTIENT) &&
+           (p->lg_alt == EDMI_ALT_JANZ || p->lg_alt == EDMI_ALT_GONZALEZ ||
+            p->lg_alt == EDMI_ALT_GE || p->lg_alt == EDMI_ALT_PM || p->lg_alt == EDMI_ALT_PT) &&
+           edmi__finite(p->tol_q) && p->tol_q > EDMI__ZERO && edmi__finite(p->tol_r) &&
+           p->tol_r >= EDMI__ZERO && edmi__finite(p->tol_a) && p->tol_a >= EDMI__ZERO &&
+           p->l_max >= 1 && edmi__finite(p->tank_cap) && p->tank_cap >= EDMI__ZERO &&
+           p->substep_levels >= 0 && p->substep_levels <= EDMI_MAX_SUBSTEP_LEVELS &&
+           (p->guard == EDMI_GUARD_AUTO || p->guard == EDMI_GUARD_ON ||
+            p->guard == EDMI_GUARD_OFF);
 }
 
-edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
+/* Body a exists; b is an anchor or another existing body. */
+static int edmi__link_ends_valid(int n_bodies, int a, int b)
 {
-    edmi_invariants iv;
-    edmi_real mass = EDMI__ZERO, mq[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
+    return a >= 0 && a < n_bodies && (b == EDMI_ANCHOR || (b >= 0 && b < n_bodies && b != a));
+}
+
+/* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
+static edmi_status edmi__validate_effects(const edmi_system *sys)
+{
+    int i;
+    for (i = 0; i < EDMI__N_DAMPERS(sys); i++) {
+        const edmi_damper *d = &sys->damper[i];
+        if (d->link < 0 || d->link >= sys->n_links)
+            return EDMI_ERR_INDEX;
+        if (!edmi__finite(d->c) || d->c < EDMI__ZERO)
+            return EDMI_ERR_PARAM;
+    }
+    for (i = 0; i < sys->n_forced; i++) {
+        int b = sys->forced[i];
+        if (b < 0 || b >= sys->n_bodies)
+            return EDMI_ERR_INDEX;
+        if (!edmi__finite3(sys->force[b]))
+            return EDMI_ERR_NONFINITE;
+    }
+    for (i = 0; i < sys->n_moving; i++) {
+        int j = sys->moving[i];
+        if (j < 0 || j >= sys->n_links || sys->link[j].b != EDMI_ANCHOR)
+            return EDMI_ERR_INDEX;
+        if (!edmi__finite3(sys->anchor_next[j]))
+            return EDMI_ERR_NONFINITE;
+    }
+    if (sys->has_field && !edmi__finite3(sys->g))
+        return EDMI_ERR_NONFINITE;
+    if (!edmi__finite(sys->t) || !edmi__finite(sys->t_carry) || !edmi__finite(sys->tank))
+        return EDMI_ERR_NONFINITE;
+    return sys->tank >= EDMI__ZERO ? EDMI_OK : EDMI_ERR_PARAM;
+}
+
+/* The counts every entry point relies on before it indexes an array: a caller that wrote
+ * sys->n_bodies etc. out of range gets EDMI_ERR_CAPACITY, not an access out of bounds. */
+static int edmi__counts_valid(const edmi_system *sys)
+{
+    return sys->n_bodies >= 0 && sys->n_bodies <= EDMI_MAX_BODIES && sys->n_links >= 0 &&
+           sys->n_links <= EDMI_MAX_LINKS && sys->n_dampers >= 0 &&
+           sys->n_dampers <= EDMI_MAX_DAMPERS && sys->n_forced >= 0 &&
+           sys->n_forced <= sys->n_bodies && sys->n_moving >= 0 &&
+           sys->n_moving <= sys->n_links;
+}
+
+/* The system as a whole: what edmi_step and edmi_invariants_of check before they read it. */
+/* A Newton matrix store smaller than the dense one of EDMI_MAX_BODIES is checked where the
+ * system can outgrow it; the default (dense) holds every system and is never checked. */
+#define EDMI__MATRIX_BOUNDED (EDMI_MAX_MATRIX < 9L * EDMI_MAX_BODIES * EDMI_MAX_BODIES)
+
+static edmi_status edmi__validate_system(const edmi_system *sys)
+{
+    int i;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
+    if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies, edmi__max_gap(sys)))
+        return EDMI_ERR_CAPACITY;
+    if (!edmi__params_valid(&sys->params))
+        return EDMI_ERR_PARAM;
+    for (i = 0; i < sys->n_bodies; i++) {
+        const edmi_body *bd = &sys->body[i];
+        if (!edmi__finite(bd->m) || !(bd->m > EDMI__ZERO))
+            return EDMI_ERR_MASS;
+        if (!edmi__finite3(bd->q) || !edmi__finite3(bd->p))
+            return EDMI_ERR_NONFINITE;
+    }
+    for (i = 0; i < sys->n_links; i++) {
+        const edmi_link *lk = &sys->link[i];
+        if (!edmi__link_ends_valid(sys->n_bodies, lk->a, lk->b))
+            return EDMI_ERR_INDEX;
+        if (!edmi__pot_valid(&lk->pot))
+            return EDMI_ERR_PARAM;
+        if (!edmi__finite3(lk->anchor))
+            return EDMI_ERR_NONFINITE;
+    }
+#if EDMI_MAX_MASS_GAP > 0
+    for (i = 1; i < sys->n_bodies; i++) {
+        int k;
+        for (k = 0; k < EDMI_MAX_MASS_GAP && k < i; k++)
+            if (!edmi__finite(sys->mass_off[i][k]))
+                return EDMI_ERR_NONFINITE;
+    }
+    if (EDMI__COUPLED(sys) && !edmi__mass_provable(sys))
+        return EDMI_ERR_MASS; /* a mass written since: M no longer provably definite */
+#endif
+    return edmi__validate_effects(sys);
+}
+
+/* Everything edmi_step checks before it touches anything: the system, and a dt the clock
+ * can take (t + dt finite: a clock at +inf would refuse every later step). */
+static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
+{
     edmi_status st;
-    int a, i;
-    if (!sys || !out)
-        return EDMI_ERR_NULL;
+    if (!edmi__finite(dt) || !(dt > EDMI__ZERO))
+        return EDMI_ERR_DT;
     st = edmi__validate_system(sys);
     if (st != EDMI_OK)
         return st;
-    iv.k = EDMI__ZERO;
-    iv.v = EDMI__ZERO;
-    for (i = 0; i < 3; i++)
-        iv.j[i] = iv.l[i] = EDMI__ZERO;
-    for (a = 0; a < sys->n_bodies; a++) {
-        const edmi_body *bd = &sys->body[a];
-        edmi_real jq[3];
-        edmi_real mrow = edmi__mass_row(sys, a);
-        iv.k += EDMI__HALF * edmi__dot(bd->p, bd->p) / bd->m;
-        edmi__cross(bd->q, bd->p, jq);
-        for (i = 0; i < 3; i++) {
-            iv.j[i] += jq[i];
-            iv.l[i] += bd->p[i];
-            mq[i] += mrow * bd->q[i]; /* sum over a of (M q)_a, M symmetric */
-        }
-        mass += mrow;
-    }
-#if EDMI_MAX_MASS_GAP > 0
-    if (EDMI__COUPLED(sys) && !edmi__mass_cholesky(sys, &iv.k))
-        return EDMI_ERR_MASS;
-#endif
-    for (a = 0; a < sys->n_links; a++) {
-        const edmi_link *lk = &sys->link[a];
-        edmi_real r[3], d;
-        edmi_pot_parts pp;
-        edmi__link_vector(sys, lk, r);
-        d = edmi__norm(r);
-        if (!(d > EDMI__ZERO) && !(d == EDMI__ZERO && edmi__is_linear(&lk->pot)))
-            return EDMI_ERR_COINCIDENT;
-        st = edmi__pot_parts(&lk->pot, d, &pp, 1);
-        if (st != EDMI_OK)
-            return st;
-        iv.v += pp.v[0];
-    }
-    if (sys->has_field)
-        for (a = 0; a < sys->n_bodies; a++)
-            iv.v -= edmi__mass_row(sys, a) * edmi__dot(sys->g, sys->body[a].q);
-    iv.h = iv.k + iv.v;
-    for (i = 0; i < 3; i++)
-        iv.c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * iv.l[i]) / mass : EDMI__ZERO;
-    if (!edmi__invariants_finite(&iv)) /* beyond the precision's range */
-        return EDMI_ERR_RANGE;
-    out->h = iv.h; /* field by field: a struct copy would need memcpy from the C library */
-    out->k = iv.k;
-    out->v = iv.v;
-    edmi__copy3(iv.j, out->j);
-    edmi__copy3(iv.l, out->l);
-    edmi__copy3(iv.c, out->c);
-    return EDMI_OK;
+    return edmi__finite(sys->t + (dt - sys->t_carry)) ? EDMI_OK : EDMI_ERR_DT;
 }
-
-/* Every derivative of every part finite (a result beyond the range is not a result). */
-static int edmi__parts_finite(const edmi_pot_parts *o)
-{
-    int i;
-    for (i = 0; i < 5; i++)
-        if (!edmi__finite(o->v[i]) || !edmi__finite(o->c[i]) || !edmi__finite(o->e[i]) ||
-            !edmi__finite(o->sp[i]) || !edmi__finite(o->sm[i]))
-            return 0;
-    return 1;
-}
-
-edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts *out)
-{
-    edmi_pot_parts pp;
-    edmi_status st;
-    if (!pot || !out)
-        return EDMI_ERR_NULL;
-    if (!edmi__pot_valid(pot) || !edmi__finite(r) || !(r > EDMI__ZERO))
-        return EDMI_ERR_PARAM;
-    st = edmi__pot_parts(pot, r, &pp, 1);
-    if (st != EDMI_OK)
-        return st;
-    if (!edmi__parts_finite(&pp))
-        return EDMI_ERR_RANGE;
-    edmi__copy5(pp.v, out->v); /* part by part: a struct copy would need memcpy */
-    edmi__copy5(pp.c, out->c);
-    edmi__copy5(pp.e, out->e);
-    edmi__copy5(pp.sp, out->sp);
-    edmi__copy5(pp.sm, out->sm);
-    return EDMI_OK;
-}
-
-edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real d1,
-                             edmi_real *dd, edmi_real *dd_d1)
-{
-    edmi_real x, x1;
-    edmi_status st;
-    if (!pot || !dd || !dd_d1)
-        return EDMI_ERR_NULL;
-    if (!edmi__pot_valid(pot) || !edmi__finite(d0) || !edmi__finite(d1) ||
-        !(d0 > EDMI__ZERO) || !(d1 > EDMI__ZERO))
-        return EDMI_ERR_PARAM;
-    st = edmi__divdiff(pot, d0, d1, &x, &x1);
-    if (st != EDMI_OK)
-        return st;
-    if (!edmi__finite(x) || !edmi__finite(x1))
-        return EDMI_ERR_RANGE;
-    *dd = x;
-    *dd_d1 = x1;
-    return EDMI_OK;
-}
-
-/* ==========================================================================================
- * Building a system
- * ======================================================================================== */
 
 edmi_params edmi_default_params(void)
 {
@@ -5074,47 +5124,78 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
     return EDMI_OK;
 }
 
-static edmi_potential edmi__pot(edmi_pot_kind kind, edmi_real a, edmi_real b)
+/* ==========================================================================================
+ * Invariants
+ *
+ * H = K + V, J, L, C(t) (sections 2 and 4.1).
+ * ======================================================================================== */
+
+static int edmi__invariants_finite(const edmi_invariants *v)
 {
-    edmi_potential p;
-    p.kind = kind;
-    p.a = a;
-    p.b = b;
-    p.fn = 0;
-    p.dd = 0;
-    p.ctx = 0;
-    return p;
+    return edmi__finite(v->h) && edmi__finite(v->k) && edmi__finite(v->v) &&
+           edmi__finite3(v->j) && edmi__finite3(v->l) && edmi__finite3(v->c);
 }
 
-edmi_potential edmi_pot_harmonic(edmi_real k, edmi_real r0)
+edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
 {
-    return edmi__pot(EDMI_POT_HARMONIC, k, r0);
-}
-
-edmi_potential edmi_pot_quartic(edmi_real k, edmi_real len)
-{
-    return edmi__pot(EDMI_POT_QUARTIC, k, len);
-}
-
-edmi_potential edmi_pot_neo_hooke(edmi_real c, edmi_real rbar)
-{
-    return edmi__pot(EDMI_POT_NEO_HOOKE, c, rbar);
-}
-
-edmi_potential edmi_pot_lj(edmi_real eps, edmi_real sigma)
-{
-    return edmi__pot(EDMI_POT_LJ, eps, sigma);
-}
-
-edmi_potential edmi_pot_inverse(edmi_real k) { return edmi__pot(EDMI_POT_INVERSE, k, EDMI__ZERO); }
-
-edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
-{
-    edmi_potential p = edmi__pot(EDMI_POT_USER, EDMI__ZERO, EDMI__ZERO);
-    p.fn = fn;
-    p.dd = dd;
-    p.ctx = ctx;
-    return p;
+    edmi_invariants iv;
+    edmi_real mass = EDMI__ZERO, mq[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
+    edmi_status st;
+    int a, i;
+    if (!sys || !out)
+        return EDMI_ERR_NULL;
+    st = edmi__validate_system(sys);
+    if (st != EDMI_OK)
+        return st;
+    iv.k = EDMI__ZERO;
+    iv.v = EDMI__ZERO;
+    for (i = 0; i < 3; i++)
+        iv.j[i] = iv.l[i] = EDMI__ZERO;
+    for (a = 0; a < sys->n_bodies; a++) {
+        const edmi_body *bd = &sys->body[a];
+        edmi_real jq[3];
+        edmi_real mrow = edmi__mass_row(sys, a);
+        iv.k += EDMI__HALF * edmi__dot(bd->p, bd->p) / bd->m;
+        edmi__cross(bd->q, bd->p, jq);
+        for (i = 0; i < 3; i++) {
+            iv.j[i] += jq[i];
+            iv.l[i] += bd->p[i];
+            mq[i] += mrow * bd->q[i]; /* sum over a of (M q)_a, M symmetric */
+        }
+        mass += mrow;
+    }
+#if EDMI_MAX_MASS_GAP > 0
+    if (EDMI__COUPLED(sys) && !edmi__mass_cholesky(sys, &iv.k))
+        return EDMI_ERR_MASS;
+#endif
+    for (a = 0; a < sys->n_links; a++) {
+        const edmi_link *lk = &sys->link[a];
+        edmi_real r[3], d;
+        edmi_pot_parts pp;
+        edmi__link_vector(sys, lk, r);
+        d = edmi__norm(r);
+        if (!(d > EDMI__ZERO) && !(d == EDMI__ZERO && edmi__is_linear(&lk->pot)))
+            return EDMI_ERR_COINCIDENT;
+        st = edmi__pot_parts(&lk->pot, d, &pp, 1);
+        if (st != EDMI_OK)
+            return st;
+        iv.v += pp.v[0];
+    }
+    if (sys->has_field)
+        for (a = 0; a < sys->n_bodies; a++)
+            iv.v -= edmi__mass_row(sys, a) * edmi__dot(sys->g, sys->body[a].q);
+    iv.h = iv.k + iv.v;
+    for (i = 0; i < 3; i++)
+        iv.c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * iv.l[i]) / mass : EDMI__ZERO;
+    if (!edmi__invariants_finite(&iv)) /* beyond the precision's range */
+        return EDMI_ERR_RANGE;
+    out->h = iv.h; /* field by field: a struct copy would need memcpy from the C library */
+    out->k = iv.k;
+    out->v = iv.v;
+    edmi__copy3(iv.j, out->j);
+    edmi__copy3(iv.l, out->l);
+    edmi__copy3(iv.c, out->c);
+    return EDMI_OK;
 }
 
 /* ==========================================================================================
