@@ -4651,16 +4651,40 @@ static int edmi__link_ends_valid(int n_bodies, int a, int b)
     return a >= 0 && a < n_bodies && (b == EDMI_ANCHOR || (b >= 0 && b < n_bodies && b != a));
 }
 
+/* The rules for one body, one link and one damper, shared by every path that takes them in:
+ * the builders (edmi_add_*), the scene loader and the check of a system before a step. */
+static edmi_status edmi__body_valid(edmi_real m, const edmi_real q[3], const edmi_real p[3])
+{
+    if (!edmi__finite(m) || !(m > EDMI__ZERO))
+        return EDMI_ERR_MASS;
+    return edmi__finite3(q) && edmi__finite3(p) ? EDMI_OK : EDMI_ERR_NONFINITE;
+}
+
+static edmi_status edmi__link_valid(int n_bodies, int a, int b, const edmi_potential *pot,
+                                    const edmi_real x[3])
+{
+    if (!edmi__link_ends_valid(n_bodies, a, b))
+        return EDMI_ERR_INDEX;
+    if (!edmi__pot_valid(pot))
+        return EDMI_ERR_PARAM;
+    return edmi__finite3(x) ? EDMI_OK : EDMI_ERR_NONFINITE;
+}
+
+static edmi_status edmi__damper_valid(int n_links, int link, edmi_real c)
+{
+    if (link < 0 || link >= n_links)
+        return EDMI_ERR_INDEX;
+    return edmi__finite(c) && c >= EDMI__ZERO ? EDMI_OK : EDMI_ERR_PARAM;
+}
+
 /* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
 static edmi_status edmi__validate_effects(const edmi_system *sys)
 {
     int i;
     for (i = 0; i < EDMI__N_DAMPERS(sys); i++) {
-        const edmi_damper *d = &sys->damper[i];
-        if (d->link < 0 || d->link >= sys->n_links)
-            return EDMI_ERR_INDEX;
-        if (!edmi__finite(d->c) || d->c < EDMI__ZERO)
-            return EDMI_ERR_PARAM;
+        edmi_status st = edmi__damper_valid(sys->n_links, sys->damper[i].link, sys->damper[i].c);
+        if (st != EDMI_OK)
+            return st;
     }
     for (i = 0; i < sys->n_forced; i++) {
         int b = sys->forced[i];
@@ -4710,19 +4734,15 @@ static edmi_status edmi__validate_system(const edmi_system *sys)
         return EDMI_ERR_PARAM;
     for (i = 0; i < sys->n_bodies; i++) {
         const edmi_body *bd = &sys->body[i];
-        if (!edmi__finite(bd->m) || !(bd->m > EDMI__ZERO))
-            return EDMI_ERR_MASS;
-        if (!edmi__finite3(bd->q) || !edmi__finite3(bd->p))
-            return EDMI_ERR_NONFINITE;
+        edmi_status st = edmi__body_valid(bd->m, bd->q, bd->p);
+        if (st != EDMI_OK)
+            return st;
     }
     for (i = 0; i < sys->n_links; i++) {
         const edmi_link *lk = &sys->link[i];
-        if (!edmi__link_ends_valid(sys->n_bodies, lk->a, lk->b))
-            return EDMI_ERR_INDEX;
-        if (!edmi__pot_valid(&lk->pot))
-            return EDMI_ERR_PARAM;
-        if (!edmi__finite3(lk->anchor))
-            return EDMI_ERR_NONFINITE;
+        edmi_status st = edmi__link_valid(sys->n_bodies, lk->a, lk->b, &lk->pot, lk->anchor);
+        if (st != EDMI_OK)
+            return st;
     }
 #if EDMI_MAX_MASS_GAP > 0
     for (i = 1; i < sys->n_bodies; i++) {
@@ -4813,12 +4833,12 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
                           const edmi_real p[3], int *index)
 {
     edmi_body *bd;
+    edmi_status st;
     if (!sys || !q || !p)
         return EDMI_ERR_NULL;
-    if (!edmi__finite(m) || !(m > EDMI__ZERO))
-        return EDMI_ERR_MASS;
-    if (!edmi__finite3(q) || !edmi__finite3(p))
-        return EDMI_ERR_NONFINITE;
+    st = edmi__body_valid(m, q, p);
+    if (st != EDMI_OK)
+        return st;
     if (!edmi__counts_valid(sys) || sys->n_bodies >= EDMI_MAX_BODIES ||
         (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies + 1, edmi__max_gap(sys))))
         return EDMI_ERR_CAPACITY;
@@ -4852,16 +4872,14 @@ static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_rea
                                   const edmi_potential *pot, int *index)
 {
     static const edmi_real origin[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO};
+    edmi_status st;
     if (!sys || !pot || (b == EDMI_ANCHOR && !x))
         return EDMI_ERR_NULL;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
-    if (!edmi__link_ends_valid(sys->n_bodies, a, b))
-        return EDMI_ERR_INDEX;
-    if (!edmi__pot_valid(pot))
-        return EDMI_ERR_PARAM;
-    if (x && !edmi__finite3(x))
-        return EDMI_ERR_NONFINITE;
+    st = edmi__link_valid(sys->n_bodies, a, b, pot, x ? x : origin);
+    if (st != EDMI_OK)
+        return st;
     if (sys->n_links >= EDMI_MAX_LINKS)
         return EDMI_ERR_CAPACITY;
     if (EDMI__MATRIX_BOUNDED && b != EDMI_ANCHOR) {
@@ -4909,12 +4927,12 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
 {
     if (!sys)
         return EDMI_ERR_NULL;
+    edmi_status st;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
-    if (link < 0 || link >= sys->n_links)
-        return EDMI_ERR_INDEX;
-    if (!edmi__finite(c) || c < EDMI__ZERO)
-        return EDMI_ERR_PARAM;
+    st = edmi__damper_valid(sys->n_links, link, c);
+    if (st != EDMI_OK)
+        return st;
     if (EDMI__N_DAMPERS(sys) >= EDMI_MAX_DAMPERS)
         return EDMI_ERR_CAPACITY;
     sys->damper[sys->n_dampers].link = link;
@@ -5034,19 +5052,15 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         return EDMI_ERR_NONFINITE;
     for (i = 0; i < scene->n_bodies; i++) {
         const edmi_body *bd = &scene->bodies[i];
-        if (!edmi__finite(bd->m) || !(bd->m > EDMI__ZERO))
-            return EDMI_ERR_MASS;
-        if (!edmi__finite3(bd->q) || !edmi__finite3(bd->p))
-            return EDMI_ERR_NONFINITE;
+        edmi_status st = edmi__body_valid(bd->m, bd->q, bd->p);
+        if (st != EDMI_OK)
+            return st;
     }
     for (i = 0; i < scene->n_links; i++) {
         const edmi_link *lk = &scene->links[i];
-        if (!edmi__link_ends_valid(scene->n_bodies, lk->a, lk->b))
-            return EDMI_ERR_INDEX;
-        if (!edmi__pot_valid(&lk->pot))
-            return EDMI_ERR_PARAM;
-        if (!edmi__finite3(lk->anchor))
-            return EDMI_ERR_NONFINITE;
+        edmi_status st = edmi__link_valid(scene->n_bodies, lk->a, lk->b, &lk->pot, lk->anchor);
+        if (st != EDMI_OK)
+            return st;
         if (lk->b != EDMI_ANCHOR && (lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a) > gap)
             gap = lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a;
     }
@@ -5085,11 +5099,10 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         return EDMI_ERR_MASS; /* M not provably positive definite */
 #endif
     for (i = 0; i < EDMI__N_DAMPERS(scene); i++) {
-        const edmi_damper *d = &scene->dampers[i];
-        if (d->link < 0 || d->link >= scene->n_links)
-            return EDMI_ERR_INDEX;
-        if (!edmi__finite(d->c) || d->c < EDMI__ZERO)
-            return EDMI_ERR_PARAM;
+        edmi_status st = edmi__damper_valid(scene->n_links, scene->dampers[i].link,
+                                            scene->dampers[i].c);
+        if (st != EDMI_OK)
+            return st;
     }
     /* validated: now replace */
     (void)edmi_init(sys, &p);
