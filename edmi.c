@@ -2316,18 +2316,15 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
     if (!(r > EDMI__ZERO))
         return EDMI_OK;
     for (l = 1;; l++) {
-        /* a chord correction where the factorisation costs more than it saves: after a full
-         * correction that contracted (the first, Newton's, always counts) to a residual in
-         * Newton's quadratic tail, below sqrt(eps) r_0 (from a far predictor the first
-         * tangent is a poor one: on the solar system at dt = 18.25 d a chord correction at a
-         * residual of 275 raised it 4e5-fold), and only when
-         * Newton runs to its floor: with tol_r or tol_a a linearly contracting iteration stops
-         * just below the tolerance, where Newton's quadratic last step lands far below it
-         * (measured: the solar system with the paper's tol_R = 1e-12, LG-Q/GE, max |dH| 3.1e-11
-         * instead of 2.3e-12, in 10.2 corrections per step instead of 3.4). A chord
-         * correction that did not contract by 8 or raised the residual ends the chord for the
-         * step (alternating, PM on the solar system at dt = 18.25 d took up to 37 corrections
-         * where Newton alone takes 15, and failed at l_max = 20) */
+        /* A chord correction (the last factors again) where factoring costs more than it
+         * saves: at l = 1 from the factors the last step kept; later only once a contracting
+         * correction has brought the residual into Newton's quadratic tail, below sqrt(eps)
+         * r_0, because the first tangent at a far predictor is a poor one; and only when
+         * Newton runs to its floor, because with tol_r or tol_a a linearly contracting
+         * iteration stops just below the tolerance where Newton's quadratic last step lands
+         * far below it. A chord correction that does not contract by 8, or raises the
+         * residual, ends the chord for the step. docs/api.md ("Solver") gives the measured
+         * cases behind each rule. */
         chord = chord_ok && sys->n_bodies > 1 && moved == EDMI__ONE &&
                 (l == 1 ? work->kept
                         : contracted && (work->kept || r <= EDMI__SQRT_EPS * res->residual0)) &&
