@@ -4,7 +4,7 @@
 #> (`bash .ci/run` installs them all).
 #>
 #> -- the two commands --
-#> make run             50 s
+#> make run             55 s
 #>     the main job: the spring's accuracy table, then the paper's three examples with every
 #>     scheme (edmi-sim), a line as each of its 27 runs ends
 #> make test            3 min    needs g++ (clang: one check more)
