@@ -80,10 +80,10 @@
 #endif
 
 /* The smallest helpers the energy balance and the guard call hundreds of times per step are
- * inlined where edmi_real arithmetic is hardware: measured on the Cortex-M4F at -Os (QEMU,
- * float PM), 10 % fewer instructions per step on the paper's spring and 7 % on the 10-body
- * all-pairs scene, for 1.9 kB of flash. Where every operation is a soft-float call (Cortex-M0+, rv32imac) inlining
- * only copies calls (+6 to +9 kB), so the compiler decides there, as with -DEDMI_NO_INLINE. */
+ * inlined where edmi_real arithmetic is hardware: on the Cortex-M4F at -Os (QEMU, float PM)
+ * 10 % fewer instructions per step, for 2.2 kB of flash (docs/porting.md, EDMI_NO_INLINE).
+ * Where every operation is a soft-float call (Cortex-M0+, rv32imac) inlining only copies
+ * calls (+6 to +9 kB), so the compiler decides there, as with -DEDMI_NO_INLINE. */
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
 #define EDMI__ARM_FP_BIT 8 /* __ARM_FP: bit 3 double precision, bit 2 single */
 #define EDMI__RISCV_FLEN 64
