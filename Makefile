@@ -19,7 +19,7 @@
 #>     edmi-sim and the scene parser's test program
 #> make help            0 s
 #>     this list
-#> make clean           0 s
+#> make clean           15 s
 #>     remove build/
 #>
 #> -- the host: examples and measurements --
@@ -46,17 +46,17 @@
 #> make study           19 min   needs valgrind, libgsl-dev, qemu-system-arm; gnuplot for the figures
 #>     what accuracy costs: every scheme and its peers (velocity Verlet, GSL) on five scenes,
 #>     error against instructions; STUDY_QUICK=1 is the CI subset (45 s)
-#> make soak            7 min
+#> make soak            8 min
 #>     the guard's adversarial scenes, 10^6 steps per case, both precisions (SOAK_STEPS=N for
 #>     fewer)
-#> make refs            5 s
+#> make refs            2 s
 #>     regenerate tests/ref_track.h, the double reference the float suite tracks, after a
 #>     change that moves results
 #>
 #> -- fuzzing --
-#> make fuzz            2.5 min  needs clang, llvm, libclang-rt-14-dev
+#> make fuzz            1.5 min  needs clang, llvm, libclang-rt-14-dev
 #>     the API fuzzer, both precisions side by side, FUZZ_TIME seconds each (default 60)
-#> make fuzz-cov        1 min    needs clang, llvm
+#> make fuzz-cov        15 s     needs clang, llvm
 #>     edmi.c's line and branch coverage by the fuzz corpora
 #>
 #> -- microcontrollers: cross builds and QEMU --
