@@ -36,7 +36,7 @@
 #> make orbits          30 s
 #>     does the guard steer conservative orbits? drifts of H, J and r, guarded PM against PM
 #>     without it, MP and LG
-#> make bench           1.5 min  needs valgrind
+#> make bench           45 s     needs valgrind
 #>     cost against scene size (wall time), then callgrind instructions per step and per
 #>     correction against velocity Verlet
 #> make bench-profile   6 s      needs valgrind
@@ -45,8 +45,8 @@
 #>     the passivity guard's cost on the host (callgrind)
 #> make study           19 min   needs valgrind, libgsl-dev, qemu-system-arm; gnuplot for the figures
 #>     what accuracy costs: every scheme and its peers (velocity Verlet, GSL) on five scenes,
-#>     error against instructions; STUDY_QUICK=1 is the CI subset (45 s)
-#> make soak            8 min
+#>     error against instructions; STUDY_QUICK=1 is the CI subset (40 s)
+#> make soak            7 min
 #>     the guard's adversarial scenes, 10^6 steps per case, both precisions (SOAK_STEPS=N for
 #>     fewer)
 #> make refs            2 s
@@ -56,21 +56,21 @@
 #> -- fuzzing --
 #> make fuzz            1.5 min  needs clang, llvm, libclang-rt-14-dev
 #>     the API fuzzer, both precisions side by side, FUZZ_TIME seconds each (default 60)
-#> make fuzz-cov        15 s     needs clang, llvm
+#> make fuzz-cov        10 s     needs clang, llvm
 #>     edmi.c's line and branch coverage by the fuzz corpora
 #>
 #> -- microcontrollers: cross builds and QEMU --
-#> make cross           65 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-riscv64-unknown-elf
+#> make cross           40 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-riscv64-unknown-elf
 #>     edmi.c for Cortex-M4F, M7, M0+ and rv32imac: size table, capacity table, external
 #>     references
-#> make test-target     4 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make test-target     3 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the test suite on QEMU: Cortex-M4F (float) and Cortex-M7 (double), with the mass-matrix
 #>     tests
 #> make bench-target    2 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     instructions per step, the worst case, stack and the time bound, on QEMU -icount
 #> make haptic-target   20 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the 1 kHz virtual coupling on the Cortex-M4F: instructions per tick
-#> make smoke-target    15 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make smoke-target    10 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the QEMU runner's own exit statuses (pass, failure, fault, hang, stack overflow)
 #> make study-target    1 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the study's Cortex-M4F column (make study runs it)
