@@ -8,9 +8,9 @@
 #>     the main job: the spring's accuracy table, then the paper's three examples with every
 #>     scheme (edmi-sim), a line as each of its 27 runs ends
 #> make test            3 min    needs g++ (clang: one check more)
-#>     the test suite in four configurations (double, float, both under ASan+UBSan), the
-#>     simulator's tests, the fuzz corpus replayed, library checks; last line "N passed, N
-#>     failed"
+#>     the test suite in four configurations (double, float, both under ASan+UBSan) and in
+#>     three builds with features compiled out (FEATURES), the simulator's tests, the fuzz
+#>     corpus replayed, library checks; last line "N passed, N failed"
 #>
 #> -- build --
 #> make                 20 s
@@ -61,11 +61,11 @@
 #>
 #> -- microcontrollers: cross builds and QEMU --
 #> make cross           40 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-riscv64-unknown-elf
-#>     edmi.c for Cortex-M4F, M7, M0+ and rv32imac: size table, capacity table, external
-#>     references
+#>     edmi.c for Cortex-M4F, M7, M0+ and rv32imac: size table, capacity table, build
+#>     options table (EDMI_WITH_*), external references
 #> make test-target     3 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
-#>     the test suite on QEMU: Cortex-M4F (float) and Cortex-M7 (double), with the mass-matrix
-#>     tests
+#>     the test suite on QEMU: Cortex-M4F (float; also in the coupling build) and Cortex-M7
+#>     (double), with the mass-matrix tests
 #> make bench-target    2 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     instructions per step, the worst case, stack and the time bound, on QEMU -icount
 #> make haptic-target   20 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
@@ -153,6 +153,26 @@ $(BUILD)/test-$(1)/edmi_tests: $(BUILD)/test-$(1)/edmi.o \
 endef
 $(foreach c,$(CONFIGS),$(eval $(call test_config,$(c))))
 
+# Builds with features compiled out (edmi.h, EDMI_WITH_*): the same suite in both precisions,
+# skipping the cases that need what is out (tests/harness.h, th_skip). `make cross` prints
+# their flash (port/target.mk). decaying: the energy-safe schemes GE, PM, PT; coupling: one PM
+# virtual coupling (PM, harmonic links, anchors and moving anchors, the guard); conservative:
+# MP and LG without the guard.
+FEAT_decaying := -DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0
+FEAT_coupling := -DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0 -DEDMI_WITH_GE=0 -DEDMI_WITH_PT=0 \
+    -DEDMI_WITH_QUARTIC=0 -DEDMI_WITH_NEO_HOOKE=0 -DEDMI_WITH_LJ=0 -DEDMI_WITH_INVERSE=0 \
+    -DEDMI_WITH_USER=0 -DEDMI_WITH_FIELD=0 -DEDMI_WITH_PORTS=0 -DEDMI_WITH_SCENE=0 \
+    -DEDMI_MAX_DAMPERS=0
+FEAT_conservative := -DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0 -DEDMI_WITH_GUARD=0
+FEATURES := decaying coupling conservative
+FEAT_BINS := $(foreach f,$(FEATURES),$(foreach r,double float,$(BUILD)/feat-$(f)-$(r)/edmi_tests))
+$(BUILD)/feat-%/edmi_tests: $(TEST_SRC) $(TEST_HDR) edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(word 2,$(subst -, ,$*)) \
+	    $(FEAT_$(word 1,$(subst -, ,$*))) -c edmi.c -o $(@D)/edmi.o
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(word 2,$(subst -, ,$*)) \
+	    $(FEAT_$(word 1,$(subst -, ,$*))) -I. $(TEST_SRC) $(@D)/edmi.o -o $@ $(LDLIBS)
+
 # Library checks: freestanding -Werror build in both precisions, symbol prefix and external
 # references (tests/check_lib.sh), and the header used from C++ (tests/cxx_header.cpp).
 CHECK := $(BUILD)/check
@@ -210,9 +230,9 @@ $(BUILD)/mass_spd-%/mass_spd: $(MASS_SPD_SRC) tests/host_io.c tests/harness.h ed
 
 # Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
 test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLAY_BINS) $(BAND_BINS) \
-      $(MASS_BINS) $(MASS_SPD_BINS)
+      $(MASS_BINS) $(MASS_SPD_BINS) $(FEAT_BINS)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
-	bash tests/run_all.sh $(TEST_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(SIM_REF_TESTS) \
+	bash tests/run_all.sh $(TEST_BINS) $(FEAT_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(SIM_REF_TESTS) \
 	    $(BAND_RUNS) $(MASS_BINS) $(MASS_SPD_BINS) \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)') \

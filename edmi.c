@@ -64,6 +64,27 @@
  * The three loops that touch work->kd are also inside #if EDMI_MAX_DAMPERS > 0: GCC 12 warns
  * of an out-of-bounds kd[] access in the unreachable body otherwise. */
 #define EDMI__N_DAMPERS(s) (EDMI_MAX_DAMPERS > 0 ? (s)->n_dampers : 0)
+/* The schemes and potential kinds this build carries (edmi.h, EDMI_WITH_*): bit k is scheme
+ * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT are constants, so a test such as
+ * EDMI__HAS_SCHEME(EDMI_LG) && p->scheme == EDMI_LG drops the code behind it when LG is out.
+ * The decaying Lambdas are needed by their schemes and by LG's alternates. */
+#define EDMI__SCHEMES                                                                      \
+    ((unsigned)EDMI_WITH_MP << EDMI_MP | (unsigned)EDMI_WITH_LG << EDMI_LG |               \
+     (unsigned)EDMI_WITH_GE << EDMI_GE | (unsigned)EDMI_WITH_PM << EDMI_PM |               \
+     (unsigned)EDMI_WITH_PT << EDMI_PT)
+#define EDMI__HAS_SCHEME(x) ((EDMI__SCHEMES >> (x) & 1u) != 0)
+#define EDMI__DECAYING                                                                     \
+    (EDMI__SCHEMES | (EDMI_WITH_LG_QUOTIENT ? 1u << EDMI_GE | 1u << EDMI_PM | 1u << EDMI_PT : 0u))
+#define EDMI__HAS_DECAYING(x) ((EDMI__DECAYING >> (x) & 1u) != 0)
+#define EDMI__POTS                                                                         \
+    ((unsigned)EDMI_WITH_HARMONIC << EDMI_POT_HARMONIC |                                   \
+     (unsigned)EDMI_WITH_QUARTIC << EDMI_POT_QUARTIC |                                     \
+     (unsigned)EDMI_WITH_NEO_HOOKE << EDMI_POT_NEO_HOOKE | (unsigned)EDMI_WITH_LJ << EDMI_POT_LJ | \
+     (unsigned)EDMI_WITH_INVERSE << EDMI_POT_INVERSE | (unsigned)EDMI_WITH_USER << EDMI_POT_USER)
+#define EDMI__HAS_POT(k) ((EDMI__POTS >> (k) & 1u) != 0)
+/* The field and the force ports in use: the constant 0 when compiled out (as dampers). */
+#define EDMI__HAS_FIELD(s) (EDMI_WITH_FIELD && (s)->has_field)
+#define EDMI__N_FORCED(s) (EDMI_WITH_PORTS ? (s)->n_forced : 0)
 /* Whether the mass matrix has off-diagonal entries (the constant 0 when compiled out). */
 #if EDMI_MAX_MASS_GAP > 0
 #define EDMI__COUPLED(s) (edmi__mass_gap(s) > 0)
@@ -328,12 +349,14 @@ static EDMI__INLINE edmi__dw edmi__dw_mul(edmi__dw x, edmi__dw y)
     return edmi__fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
 }
 
+#if EDMI_WITH_NEO_HOOKE || EDMI_WITH_LJ || EDMI_WITH_INVERSE /* their V in double-word */
 static edmi__dw edmi__dw_div(edmi__dw x, edmi__dw y)
 {
     edmi_real th = x.hi / y.hi;
     edmi__dw r = edmi__dw_mul_r(y, th);
     return edmi__fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
 }
+#endif
 
 /* x / y for a real y (JMP's DWDivFP3). */
 static edmi__dw edmi__dw_div_r(edmi__dw x, edmi_real y)
@@ -431,9 +454,17 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
  * length 0 may have. The forces take its closed forms (edmi__beta_linear). */
 static int edmi__is_linear(const edmi_potential *pot)
 {
-    return pot->kind == EDMI_POT_HARMONIC && pot->b == EDMI__ZERO;
+    return EDMI__HAS_POT(EDMI_POT_HARMONIC) && pot->kind == EDMI_POT_HARMONIC &&
+           pot->b == EDMI__ZERO;
 }
 
+/* A user potential (callbacks): never, when compiled out. */
+static int edmi__is_user(const edmi_potential *pot)
+{
+    return EDMI__HAS_POT(EDMI_POT_USER) && pot->kind == EDMI_POT_USER;
+}
+
+#if EDMI_WITH_HARMONIC
 /* V = k/2 (r - r0)^2: convex and super-convex (V'''' = 0), so V_c = V_+ = V. */
 static void edmi__pot_harmonic(edmi_real k, edmi_real r0, edmi_real r, edmi_pot_parts *o,
                                int split)
@@ -452,6 +483,9 @@ static void edmi__pot_harmonic(edmi_real k, edmi_real r0, edmi_real r, edmi_pot_
     edmi__zero5(o->sm);
 }
 
+#endif
+
+#if EDMI_WITH_QUARTIC
 /* V = k/4 (r^2 - L^2)^2 (Gonzalez's quartic spring). Not convex for r < L/sqrt(3):
  * V_c = k/4 (r^4 + L^4), V_e = -k L^2 r^2 / 2. V'''' = 6k >= 0, so V_+ = V. */
 static void edmi__pot_quartic(edmi_real k, edmi_real len, edmi_real r, edmi_pot_parts *o,
@@ -479,6 +513,9 @@ static void edmi__pot_quartic(edmi_real k, edmi_real len, edmi_real r, edmi_pot_
     edmi__zero5(o->sm);
 }
 
+#endif
+
+#if EDMI_WITH_NEO_HOOKE
 /* The paper's neo-Hookean spring (section 3.4): V = c rb^2/6 ((r/rb)^2 + 2 rb/r - 3)
  * = c (r - rb)^2 (r + 2 rb) / (6 r), the factored form being exact near the rest length.
  * V'' = c/3 (1 + 2 rb^3/r^3) > 0 and V'''' = 8 c rb^3 / r^5 > 0: V_c = V_+ = V. */
@@ -501,6 +538,9 @@ static void edmi__pot_neo_hooke(edmi_real c, edmi_real rb, edmi_real r, edmi_pot
     edmi__zero5(o->sm);
 }
 
+#endif
+
+#if EDMI_WITH_LJ || EDMI_WITH_INVERSE
 /* Derivatives 0..4 of a * r^-n given t = a r^-n, ir = 1/r and the rising factorials of n. */
 static void edmi__inv_pow_derivs(edmi_real t, edmi_real ir, edmi_real n1, edmi_real n2,
                                  edmi_real n3, edmi_real n4, edmi_real o[5])
@@ -512,6 +552,9 @@ static void edmi__inv_pow_derivs(edmi_real t, edmi_real ir, edmi_real n1, edmi_r
     o[4] = n4 * t * ir * ir * ir * ir;
 }
 
+#endif
+
+#if EDMI_WITH_LJ
 /* Lennard-Jones 12-6 (eq. lennard_jones_12_6), split as in section 4.3.1:
  * V_c = V_+ = 4 eps (s/r)^12, V_e = V_- = -4 eps (s/r)^6. */
 static void edmi__pot_lj(edmi_real eps, edmi_real sigma, edmi_real r, edmi_pot_parts *o,
@@ -533,6 +576,9 @@ static void edmi__pot_lj(edmi_real eps, edmi_real sigma, edmi_real r, edmi_pot_p
     edmi__copy5(o->e, o->sm);
 }
 
+#endif
+
+#if EDMI_WITH_INVERSE
 /* V = -k/r. Gravity (k > 0) is concave and super-concave: V_e = V_- = V (section 4.3.2);
  * a repulsive Coulomb pair (k < 0) is convex and super-convex: V_c = V_+ = V. */
 static void edmi__pot_inverse(edmi_real k, edmi_real r, edmi_pot_parts *o, int split)
@@ -554,6 +600,8 @@ static void edmi__pot_inverse(edmi_real k, edmi_real r, edmi_pot_parts *o, int s
         edmi__zero5(o->sm);
     }
 }
+
+#endif
 
 static int edmi__pot_valid(const edmi_potential *pot)
 {
@@ -577,6 +625,14 @@ static int edmi__pot_valid(const edmi_potential *pot)
     }
 }
 
+/* A potential a link or an evaluator may take: valid, and its kind built in. */
+static edmi_status edmi__pot_check(const edmi_potential *pot)
+{
+    if (!edmi__pot_valid(pot))
+        return EDMI_ERR_PARAM;
+    return EDMI__HAS_POT(pot->kind) ? EDMI_OK : EDMI_ERR_DISABLED;
+}
+
 /* Evaluate a validated potential at r > 0: V in o->v and, with `split`, its convex/concave
  * and super-convex/super-concave parts (a user potential's always). Where only V is read (the
  * mid-point's and PM's mean lengths) the parts are not copied: 2-6 % of a Cortex-M4F step for
@@ -586,21 +642,32 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
 {
     int i;
     switch (pot->kind) {
+#if EDMI_WITH_HARMONIC
     case EDMI_POT_HARMONIC:
         edmi__pot_harmonic(pot->a, pot->b, r, o, split);
         break;
+#endif
+#if EDMI_WITH_QUARTIC
     case EDMI_POT_QUARTIC:
         edmi__pot_quartic(pot->a, pot->b, r, o, split);
         break;
+#endif
+#if EDMI_WITH_NEO_HOOKE
     case EDMI_POT_NEO_HOOKE:
         edmi__pot_neo_hooke(pot->a, pot->b, r, o, split);
         break;
+#endif
+#if EDMI_WITH_LJ
     case EDMI_POT_LJ:
         edmi__pot_lj(pot->a, pot->b, r, o, split);
         break;
+#endif
+#if EDMI_WITH_INVERSE
     case EDMI_POT_INVERSE:
         edmi__pot_inverse(pot->a, r, o, split);
         break;
+#endif
+#if EDMI_WITH_USER
     case EDMI_POT_USER:
     default:
         if (pot->fn(pot->ctx, r, o) != 0)
@@ -608,6 +675,11 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
         for (i = 0; i < 5; i++)
             o->v[i] = o->c[i] + o->e[i];
         break;
+#else
+    default: /* a kind compiled out: refused by edmi__pot_check */
+        (void)i;
+        return EDMI_ERR_DISABLED;
+#endif
     }
     return EDMI_OK;
 }
@@ -629,6 +701,7 @@ static edmi_real edmi__pot_mag(const edmi_pot_parts *pp, edmi_real d)
            (edmi__abs(pp->v[1]) + edmi__abs(pp->v[2]) * EDMI_EPS * d) * d;
 }
 
+#if EDMI_WITH_LJ
 /* Complete homogeneous polynomial h = sum_{j=0..m} a^j b^(m-j) and dh/da, by Horner in a
  * (all terms positive for a, b > 0: no cancellation). */
 static void edmi__homog(int m, edmi_real a, edmi_real b, edmi_real *h, edmi_real *ha)
@@ -655,6 +728,8 @@ static void edmi__dd_inv_pow(int n, edmi_real sigma, edmi_real d0, edmi_real d1,
     *dd_d1 = (a * a * b / (sigma * sigma)) * (h + a * ha);
 }
 
+#endif
+
 /* Closed-form [V(d1)-V(d0)]/(d1-d0) for the built-ins (the paper's eq. solar_flg_2 for
  * gravity, generalised). */
 static edmi_status edmi__divdiff(const edmi_potential *pot, edmi_real d0, edmi_real d1,
@@ -662,22 +737,29 @@ static edmi_status edmi__divdiff(const edmi_potential *pot, edmi_real d0, edmi_r
 {
     edmi_real a = pot->a, b = pot->b;
     switch (pot->kind) {
+#if EDMI_WITH_HARMONIC
     case EDMI_POT_HARMONIC:
         *dd = EDMI__HALF * a * ((d1 - b) + (d0 - b));
         *dd_d1 = EDMI__HALF * a;
         return EDMI_OK;
+#endif
+#if EDMI_WITH_QUARTIC
     case EDMI_POT_QUARTIC: {
         edmi_real w = d1 * d1 + d0 * d0 - EDMI_R(2.0) * b * b;
         *dd = EDMI_R(0.25) * a * (d1 + d0) * w;
         *dd_d1 = EDMI_R(0.25) * a * (w + EDMI_R(2.0) * d1 * (d1 + d0));
         return EDMI_OK;
     }
+#endif
+#if EDMI_WITH_NEO_HOOKE
     case EDMI_POT_NEO_HOOKE: {
         edmi_real b3 = EDMI_R(2.0) * b * b * b / (d0 * d1);
         *dd = a / EDMI_R(6.0) * ((d1 + d0) - b3);
         *dd_d1 = a / EDMI_R(6.0) * (EDMI__ONE + b3 / d1);
         return EDMI_OK;
     }
+#endif
+#if EDMI_WITH_LJ
     case EDMI_POT_LJ: {
         edmi_real q12, q12d, q6, q6d;
         edmi__dd_inv_pow(12, b, d0, d1, &q12, &q12d);
@@ -686,15 +768,23 @@ static edmi_status edmi__divdiff(const edmi_potential *pot, edmi_real d0, edmi_r
         *dd_d1 = EDMI_R(4.0) * a * (q12d - q6d);
         return EDMI_OK;
     }
+#endif
+#if EDMI_WITH_INVERSE
     case EDMI_POT_INVERSE:
         *dd = a / (d0 * d1);
         *dd_d1 = -a / (d0 * d1 * d1);
         return EDMI_OK;
+#endif
+#if EDMI_WITH_USER
     case EDMI_POT_USER:
     default:
         if (pot->dd == 0)
             return EDMI_ERR_PARAM;
         return pot->dd(pot->ctx, d0, d1, dd, dd_d1) == 0 ? EDMI_OK : EDMI_ERR_DIVERGED;
+#else
+    default: /* a kind compiled out: refused by edmi__pot_check */
+        return EDMI_ERR_DISABLED;
+#endif
     }
 }
 
@@ -705,17 +795,26 @@ static edmi_real edmi__pot_span(const edmi_potential *pot, edmi_real d, edmi_rea
 {
     edmi_real b = pot->b, t;
     switch (pot->kind) {
+#if EDMI_WITH_HARMONIC
     case EDMI_POT_HARMONIC:
         return b == EDMI__ZERO ? s : (d + b) * (d + b);
+#endif
+#if EDMI_WITH_QUARTIC
     case EDMI_POT_QUARTIC:
         return (s + b * b) * (s + b * b);
+#endif
+#if EDMI_WITH_NEO_HOOKE
     case EDMI_POT_NEO_HOOKE:
         return (d + b) * (d + b) * (d + EDMI_R(2.0) * b) / d;
+#endif
+#if EDMI_WITH_LJ
     case EDMI_POT_LJ:
         t = b / d;
         t = t * t * t;
         return t * t * (t * t + EDMI__ONE);
+#endif
     default:
+        (void)b, (void)t, (void)d, (void)s;
         return EDMI__ZERO; /* inverse: a itself, exact */
     }
 }
@@ -747,6 +846,7 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
     edmi_real a = pot->a, b = pot->b, m, xe;
     edmi__dw x, t;
     switch (pot->kind) {
+#if EDMI_WITH_HARMONIC
     case EDMI_POT_HARMONIC:
         if (b == EDMI__ZERO) {
             *v = edmi__dw_mul_r(s, EDMI__HALF * a);
@@ -758,11 +858,15 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
             m = a * xe * (xe + d.hi);
         }
         break;
+#endif
+#if EDMI_WITH_QUARTIC
     case EDMI_POT_QUARTIC:
         x = edmi__dw_sub(s, edmi__two_prod(b, b));
         *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI_R(0.25) * a);
         m = a * (edmi__abs(x.hi) + EDMI_R(2.0) * EDMI__DW_X * (s.hi + b * b)) * (s.hi + b * b);
         break;
+#endif
+#if EDMI_WITH_NEO_HOOKE
     case EDMI_POT_NEO_HOOKE: /* c (d - rb)^2 (d + 2 rb) / (6 d) */
         x = edmi__dw_add_r(d, -b);
         t = edmi__dw_mul(edmi__dw_mul(x, x), edmi__dw_add_r(d, EDMI_R(2.0) * b));
@@ -770,6 +874,8 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
         xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
         m = edmi__abs(v->hi) + a * xe * (xe + d.hi + EDMI_R(2.0) * b) / EDMI_R(3.0);
         break;
+#endif
+#if EDMI_WITH_LJ
     case EDMI_POT_LJ: /* 4 eps t^6 (t^6 - 1), t = sigma / d */
         t = edmi__dw_div(edmi__dw_of(b), d);
         t = edmi__dw_mul(t, t);
@@ -778,11 +884,20 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
                             EDMI_R(4.0) * a);
         m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
         break;
+#endif
+#if EDMI_WITH_INVERSE
     case EDMI_POT_INVERSE:
     default: /* user potentials are bounded by edmi__user_dv instead */
         *v = edmi__dw_div(edmi__dw_of(-a), d);
         m = edmi__abs(a) / d.hi;
         break;
+#else
+    default: /* user potentials are bounded by edmi__user_dv instead */
+        (void)t;
+        *v = edmi__dw_of(EDMI__ZERO);
+        m = EDMI__ZERO;
+        break;
+#endif
     }
     *err = EDMI__DW_ERR * m + edmi__pot_tiny(pot, d.hi, s.hi, m);
 }
@@ -804,7 +919,10 @@ edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts
     edmi_status st;
     if (!pot || !out)
         return EDMI_ERR_NULL;
-    if (!edmi__pot_valid(pot) || !edmi__finite(r) || !(r > EDMI__ZERO))
+    st = edmi__pot_check(pot);
+    if (st != EDMI_OK)
+        return st;
+    if (!edmi__finite(r) || !(r > EDMI__ZERO))
         return EDMI_ERR_PARAM;
     st = edmi__pot_parts(pot, r, &pp, 1);
     if (st != EDMI_OK)
@@ -826,8 +944,10 @@ edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real 
     edmi_status st;
     if (!pot || !dd || !dd_d1)
         return EDMI_ERR_NULL;
-    if (!edmi__pot_valid(pot) || !edmi__finite(d0) || !edmi__finite(d1) ||
-        !(d0 > EDMI__ZERO) || !(d1 > EDMI__ZERO))
+    st = edmi__pot_check(pot);
+    if (st != EDMI_OK)
+        return st;
+    if (!edmi__finite(d0) || !edmi__finite(d1) || !(d0 > EDMI__ZERO) || !(d1 > EDMI__ZERO))
         return EDMI_ERR_PARAM;
     st = edmi__divdiff(pot, d0, d1, &x, &x1);
     if (st != EDMI_OK)
@@ -981,11 +1101,11 @@ static edmi_scheme edmi__alt_scheme(edmi_lg_alt alt)
 static void edmi__lambda_decaying(edmi_scheme s, const edmi_link_ws *w, const edmi__at_end *e,
                                   edmi_real *lam, edmi_real *dlam)
 {
-    if (s == EDMI_GE)
+    if (EDMI__HAS_DECAYING(EDMI_GE) && s == EDMI_GE)
         edmi__lambda_ge(w, e, lam, dlam);
-    else if (s == EDMI_PM)
+    else if (EDMI__HAS_DECAYING(EDMI_PM) && s == EDMI_PM)
         edmi__lambda_pm(w, e, lam, dlam);
-    else
+    else if (EDMI__HAS_DECAYING(EDMI_PT))
         edmi__lambda_pt(w, e, lam, dlam);
 }
 
@@ -1043,7 +1163,7 @@ static void edmi__beta_linear(edmi_scheme scheme, edmi_real k, const edmi_link_w
     le->beta = k;
     le->gamma = EDMI__ZERO;
     edmi__copy3(r1, le->u);
-    if (scheme == EDMI_GE && s > EDMI__ZERO) {
+    if (EDMI__HAS_SCHEME(EDMI_GE) && scheme == EDMI_GE && s > EDMI__ZERO) {
         int i;
         le->beta = EDMI_R(2.0) * k * (d1 / s);
         if (d1 > EDMI__ZERO) {
@@ -1086,9 +1206,11 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
     e.d1 = edmi__norm(r1);
     if (!(e.d1 > EDMI__ZERO) || !edmi__finite(e.d1))
         return EDMI_ERR_DIVERGED;
-    if (prm->scheme == EDMI_LG) {
-        lg_closed = prm->lg_form == EDMI_LG_CLOSED &&
-                    (pot->kind != EDMI_POT_USER || pot->dd != 0);
+    if (EDMI__HAS_SCHEME(EDMI_LG) && prm->scheme == EDMI_LG) {
+        /* without the quotient form, a user potential under LG has its divided difference
+         * (edmi__validate_system) */
+        lg_closed = !EDMI_WITH_LG_QUOTIENT ||
+                    (prm->lg_form == EDMI_LG_CLOSED && (!edmi__is_user(pot) || pot->dd != 0));
         lg_switch = !lg_closed && edmi__abs(e.d1 - w->d0) <= prm->tol_q;
     }
     if (lg_closed) {
@@ -1096,7 +1218,7 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
         if (st != EDMI_OK)
             return st;
     } else {
-        if (prm->scheme != EDMI_LG)
+        if (!EDMI_WITH_LG_QUOTIENT || prm->scheme != EDMI_LG)
             need = edmi__needs_decaying(prm->scheme);
         else if (!lg_switch)
             need = EDMI__NEED_END; /* the quotient needs V(d_n+1), V'(d_n+1) */
@@ -1118,7 +1240,7 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
             if (st != EDMI_OK)
                 return st;
         }
-        if (prm->scheme != EDMI_LG)
+        if (!EDMI_WITH_LG_QUOTIENT || prm->scheme != EDMI_LG)
             edmi__lambda_decaying(prm->scheme, w, &e, &lam, &dlam);
         else if (lg_switch)
             edmi__lambda_lg_alt(prm->lg_alt, w, &e, &lam, &dlam);
@@ -1389,7 +1511,7 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
     st = EDMI_OK;
     if (edmi__is_linear(&lk->pot))
         edmi__beta_linear(sys->params.scheme, lk->pot.a, w, r1, &le);
-    else if (sys->params.scheme == EDMI_MP)
+    else if (EDMI__HAS_SCHEME(EDMI_MP) && sys->params.scheme == EDMI_MP)
         st = edmi__beta_mp(&lk->pot, rm, &le);
     else
         st = edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
@@ -1475,12 +1597,12 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
                                           edmi_real (*rp)[3])
 {
     int a, i;
-    for (a = 0; a < sys->n_forced; a++) {
+    for (a = 0; a < EDMI__N_FORCED(sys); a++) {
         int b = sys->forced[a];
         for (i = 0; i < 3; i++)
             rp[b][i] -= dt * sys->force[b][i];
     }
-    if (sys->has_field)
+    if (EDMI__HAS_FIELD(sys))
         for (a = 0; a < sys->n_bodies; a++) {
             edmi_real mdt = dt * edmi__mass_row(sys, a);
             for (i = 0; i < 3; i++)
@@ -2112,7 +2234,7 @@ static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real 
         acc[2 * a] = EDMI_EPS * (edmi__norm(bd->q) + edmi__norm(q1[a]) + dt / bd->m * np) +
                      EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
         acc[2 * a + 1] = EDMI_EPS * np + EDMI_R(16.0) * EDMI__REAL_MIN * EDMI_EPS;
-        if (sys->has_field)
+        if (EDMI__HAS_FIELD(sys))
             acc[2 * a + 1] += EDMI_EPS * dt * edmi__abs(edmi__mass_row(sys, a)) *
                               edmi__norm(sys->g);
     }
@@ -2127,7 +2249,7 @@ static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real 
                           (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q));
         }
 #endif
-    for (i = 0; i < sys->n_forced; i++)
+    for (i = 0; i < EDMI__N_FORCED(sys); i++)
         acc[2 * sys->forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->forced[i]]);
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
@@ -2446,9 +2568,13 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
 
 static int edmi__guard_on(const edmi_params *p)
 {
+    if (!EDMI_WITH_GUARD) /* a build of MP and LG alone without it (edmi.h) */
+        return 0;
     return p->guard == EDMI_GUARD_ON ||
            (p->guard == EDMI_GUARD_AUTO &&
-            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+            ((EDMI__HAS_SCHEME(EDMI_GE) && p->scheme == EDMI_GE) ||
+             (EDMI__HAS_SCHEME(EDMI_PM) && p->scheme == EDMI_PM) ||
+             (EDMI__HAS_SCHEME(EDMI_PT) && p->scheme == EDMI_PT)));
 }
 
 /* ---- the change of H and its bound ------------------------------------------------------ */
@@ -2557,7 +2683,8 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
     const edmi_real (*p1)[3] = (const edmi_real (*)[3])work->p1;
     edmi_real e = EDMI__ZERO, sum = EDMI__ZERO, err = EDMI__ZERO;
-    edmi_real s1 = EDMI__ZERO, sch = EDMI__ZERO, gn = sys->has_field ? edmi__norm(sys->g) : EDMI__ZERO;
+    edmi_real s1 = EDMI__ZERO, sch = EDMI__ZERO;
+    edmi_real gn = EDMI__HAS_FIELD(sys) ? edmi__norm(sys->g) : EDMI__ZERO;
     int a, i, j, n = 2;
     pl->ok = !EDMI__COUPLED(sys);
     for (a = 0; a < sys->n_bodies; a++) {
@@ -2572,7 +2699,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
         sum += mag / m2;
         err += EDMI_R(8.0) * EDMI_EPS * mag / m2 + EDMI__DW_TINY * (EDMI__ONE + EDMI__ONE / m2);
         s1 += edmi__dot(p1[a], p1[a]) / m2; /* a coupled M's K is near this (a magnitude) */
-        if (sys->has_field) { /* V = -(M 1)_a g . q_a (a coupled M's row sum may be < 0) */
+        if (EDMI__HAS_FIELD(sys)) { /* V = -(M 1)_a g . q_a (a coupled M's row sum < 0?) */
             edmi_real mr = edmi__mass_row(sys, a), m = edmi__abs(mr), dq[3], fv;
             for (i = 0, mag = EDMI__ZERO; i < 3; i++) {
                 dq[i] = q1[a][i] - bd->q[i];
@@ -2593,7 +2720,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
         edmi_real r1[3], d1, v1, m1, dv, ds, e1;
         edmi_pot_parts pp;
         edmi_status st;
-        if (lk->pot.kind == EDMI_POT_USER) {
+        if (edmi__is_user(&lk->pot)) {
             st = edmi__user_dv(sys, w, lk, q1, &dv, &e1, &ds, &m1);
             if (st != EDMI_OK)
                 return st;
@@ -2649,7 +2776,7 @@ static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *wor
                                const edmi_step_result *res, edmi_real *x, edmi_real *so)
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
-    edmi_real gn = sys->has_field ? edmi__norm(sys->g) : EDMI__ZERO;
+    edmi_real gn = EDMI__HAS_FIELD(sys) ? edmi__norm(sys->g) : EDMI__ZERO;
     int a, i, j;
     *x = EDMI__ZERO;
     *so = sys->tank + edmi__abs(res->work_ext) + edmi__abs(res->work_anchor);
@@ -2682,7 +2809,7 @@ static edmi_real edmi__plain_tiny(const edmi_system *sys, const edmi_workspace *
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         const edmi_link_ws *w = &work->lw[j];
-        if (lk->pot.kind == EDMI_POT_USER || !w->bal_on)
+        if (edmi__is_user(&lk->pot) || !w->bal_on)
             continue;
         t += edmi__pot_tiny(&lk->pot, w->d0, w->d0 * w->d0, w->m0) +
              edmi__pot_tiny(&lk->pot, w->d1, w->d1 * w->d1, w->m1);
@@ -2797,7 +2924,7 @@ static edmi_status edmi__delta_v_link(const edmi_system *sys, edmi_link_ws *w,
     const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
     if (!w->bal_on)
         return EDMI_OK;
-    if (lk->pot.kind == EDMI_POT_USER) {
+    if (edmi__is_user(&lk->pot)) {
         edmi_real ub, err, dsr, mag;
         edmi_status st = edmi__user_dv(sys, w, lk, q1, &ub, &err, &dsr, &mag);
         if (st != EDMI_OK)
@@ -2883,7 +3010,7 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         if (bal->scheme_on)
             bal->scheme = edmi__dw_add_z(bal->scheme, edmi__dw_pair(w->bal_sc));
     }
-    if (sys->has_field) /* V = -sum (M 1)_a g . q_a, each mass entry exact */
+    if (EDMI__HAS_FIELD(sys)) /* V = -sum (M 1)_a g . q_a, each mass entry exact */
         for (a = 0; a < sys->n_bodies; a++) {
             edmi__dw wg;
             edmi_real mag, x;
@@ -3557,7 +3684,7 @@ static void edmi__frame_velocity(const edmi_system *sys, const edmi_workspace *w
     int a, i;
     for (i = 0; i < 3; i++)
         v[i] = EDMI__ZERO;
-    if (work->n_pair < sys->n_links || sys->has_field || sys->n_forced > 0)
+    if (work->n_pair < sys->n_links || EDMI__HAS_FIELD(sys) || EDMI__N_FORCED(sys) > 0)
         return;
     for (a = 0; a < sys->n_bodies; a++) {
         mass += edmi__mass_row(sys, a); /* the mass a uniform velocity carries: (M 1)_a */
@@ -3640,11 +3767,11 @@ static void edmi__grad_q(const edmi_system *sys, const edmi_workspace *work, int
     *h = EDMI__ZERO;
     for (i = 0; i < 3; i++)
 #if EDMI_MAX_MASS_GAP > 0 /* the field pulls body a with (M 1)_a g */
-        g[i] = sys->has_field ? -edmi__mass_row(sys, a) * sys->g[i] : EDMI__ZERO;
+        g[i] = EDMI__HAS_FIELD(sys) ? -edmi__mass_row(sys, a) * sys->g[i] : EDMI__ZERO;
 #else
-        g[i] = sys->has_field ? -sys->body[a].m * sys->g[i] : EDMI__ZERO;
+        g[i] = EDMI__HAS_FIELD(sys) ? -sys->body[a].m * sys->g[i] : EDMI__ZERO;
 #endif
-    for (j = 0; j < sys->n_forced; j++)
+    for (j = 0; j < EDMI__N_FORCED(sys); j++)
         if (sys->forced[j] == a)
             for (i = 0; i < 3; i++)
                 g[i] -= sys->force[a][i];
@@ -3695,7 +3822,7 @@ static void edmi__port_work(const edmi_system *sys, const edmi_workspace *work,
 {
     edmi__dw wx = edmi__dw_of(EDMI__ZERO);
     int a;
-    for (a = 0; a < sys->n_forced; a++) {
+    for (a = 0; a < EDMI__N_FORCED(sys); a++) {
         int b = sys->forced[a];
         wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], work->q1[b], sys->body[b].q, EDMI__ONE));
     }
@@ -3966,7 +4093,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
     edmi__dw wx = edmi__dw_of(EDMI__ZERO), wa = edmi__dw_of(EDMI__ZERO);
     int a, i, j;
-    for (a = 0; a < sys->n_forced; a++) {
+    for (a = 0; a < EDMI__N_FORCED(sys); a++) {
         int b = sys->forced[a];
         wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], q1[b], sys->body[b].q, EDMI__ONE));
     }
@@ -4037,7 +4164,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
     for (a = 0; a < sys->n_bodies; a++) { /* magnitudes: the tank's capacity and the scale */
         edmi_real m = edmi__mass_row(sys, a);
         s1 += EDMI__HALF * edmi__dot(work->p1[a], work->p1[a]) / sys->body[a].m;
-        if (sys->has_field) {
+        if (EDMI__HAS_FIELD(sys)) {
             edmi_real f = edmi__abs(m) * edmi__norm(sys->g) * edmi__norm(sys->body[a].q);
             s1 += f;
             so += EDMI_R(2.0) * f;
@@ -4627,9 +4754,10 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
  * edmi_tangent, and the builders before they write), then the builders and the scene loader.
  * ======================================================================================== */
 
-static int edmi__params_valid(const edmi_params *p)
+/* Parameters in range (else EDMI_ERR_PARAM) and a scheme and LG form this build carries. */
+static edmi_status edmi__params_valid(const edmi_params *p)
 {
-    return (p->scheme == EDMI_MP || p->scheme == EDMI_LG || p->scheme == EDMI_GE ||
+    int ok = (p->scheme == EDMI_MP || p->scheme == EDMI_LG || p->scheme == EDMI_GE ||
             p->scheme == EDMI_PM || p->scheme == EDMI_PT) &&
            (p->lg_form == EDMI_LG_CLOSED || p->lg_form == EDMI_LG_QUOTIENT) &&
            (p->lg_alt == EDMI_ALT_JANZ || p->lg_alt == EDMI_ALT_GONZALEZ ||
@@ -4640,6 +4768,13 @@ static int edmi__params_valid(const edmi_params *p)
            p->substep_levels >= 0 && p->substep_levels <= EDMI_MAX_SUBSTEP_LEVELS &&
            (p->guard == EDMI_GUARD_AUTO || p->guard == EDMI_GUARD_ON ||
             p->guard == EDMI_GUARD_OFF);
+    if (!ok)
+        return EDMI_ERR_PARAM;
+    if (!EDMI__HAS_SCHEME(p->scheme) ||
+        (!EDMI_WITH_LG_QUOTIENT && p->scheme == EDMI_LG && p->lg_form == EDMI_LG_QUOTIENT) ||
+        (!EDMI_WITH_GUARD && p->guard == EDMI_GUARD_ON))
+        return EDMI_ERR_DISABLED;
+    return EDMI_OK;
 }
 
 /* Body a exists; b is an anchor or another existing body. */
@@ -4662,10 +4797,12 @@ static EDMI__INLINE edmi_status edmi__link_valid(int n_bodies, int a, int b,
                                                  const edmi_potential *pot,
                                                  const edmi_real x[3])
 {
+    edmi_status st;
     if (!edmi__link_ends_valid(n_bodies, a, b))
         return EDMI_ERR_INDEX;
-    if (!edmi__pot_valid(pot))
-        return EDMI_ERR_PARAM;
+    st = edmi__pot_check(pot);
+    if (st != EDMI_OK)
+        return st;
     return edmi__finite3(x) ? EDMI_OK : EDMI_ERR_NONFINITE;
 }
 
@@ -4704,7 +4841,9 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
         if (st != EDMI_OK)
             return st;
     }
-    for (i = 0; i < sys->n_forced; i++) {
+    if ((!EDMI_WITH_PORTS && sys->n_forced != 0) || (!EDMI_WITH_FIELD && sys->has_field))
+        return EDMI_ERR_DISABLED;
+    for (i = 0; i < EDMI__N_FORCED(sys); i++) {
         int b = sys->forced[i];
         if (b < 0 || b >= sys->n_bodies)
             return EDMI_ERR_INDEX;
@@ -4718,7 +4857,7 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
         if (!edmi__finite3(sys->anchor_next[j]))
             return EDMI_ERR_NONFINITE;
     }
-    if (sys->has_field && !edmi__finite3(sys->g))
+    if (EDMI__HAS_FIELD(sys) && !edmi__finite3(sys->g))
         return EDMI_ERR_NONFINITE;
     if (!edmi__finite(sys->t) || !edmi__finite(sys->t_carry) || !edmi__finite(sys->tank))
         return EDMI_ERR_NONFINITE;
@@ -4748,11 +4887,19 @@ static edmi_status edmi__validate_system(const edmi_system *sys)
         return EDMI_ERR_CAPACITY;
     if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies, edmi__max_gap(sys)))
         return EDMI_ERR_CAPACITY;
-    if (!edmi__params_valid(&sys->params))
-        return EDMI_ERR_PARAM;
+    st = edmi__params_valid(&sys->params);
+    if (st != EDMI_OK)
+        return st;
     st = edmi__bodies_links_valid(sys->n_bodies, sys->body, sys->n_links, sys->link);
     if (st != EDMI_OK)
         return st;
+    if (!EDMI_WITH_LG_QUOTIENT && EDMI__HAS_SCHEME(EDMI_LG) && EDMI__HAS_POT(EDMI_POT_USER) &&
+        sys->params.scheme == EDMI_LG) {
+        int j; /* LG's closed form needs a user potential's divided difference */
+        for (j = 0; j < sys->n_links; j++)
+            if (sys->link[j].pot.kind == EDMI_POT_USER && sys->link[j].pot.dd == 0)
+                return EDMI_ERR_DISABLED;
+    }
 #if EDMI_MAX_MASS_GAP > 0
     {
         int i, k;
@@ -4783,7 +4930,10 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
 edmi_params edmi_default_params(void)
 {
     edmi_params p;
-    p.scheme = EDMI_PM; /* energy-safe: decays, never gains (docs/energy-safe.md) */
+    /* energy-safe: decays, never gains (docs/energy-safe.md); or the first decaying, then
+     * conserving, scheme the build carries */
+    p.scheme = EDMI_WITH_PM ? EDMI_PM : EDMI_WITH_PT ? EDMI_PT : EDMI_WITH_GE ? EDMI_GE
+               : EDMI_WITH_LG ? EDMI_LG : EDMI_MP;
     p.lg_form = EDMI_LG_CLOSED;
     p.lg_alt = EDMI_ALT_JANZ;
     p.l_max = 20;
@@ -4809,10 +4959,12 @@ edmi_params edmi_default_params(void)
 
 edmi_status edmi_set_params(edmi_system *sys, const edmi_params *params)
 {
+    edmi_status st;
     if (!sys || !params)
         return EDMI_ERR_NULL;
-    if (!edmi__params_valid(params))
-        return EDMI_ERR_PARAM;
+    st = edmi__params_valid(params);
+    if (st != EDMI_OK)
+        return st;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
     sys->params = *params;
@@ -4824,10 +4976,12 @@ edmi_status edmi_init(edmi_system *sys, const edmi_params *params)
     edmi_params p = params ? *params : edmi_default_params();
     unsigned char *bytes;
     unsigned long i;
+    edmi_status st;
     if (!sys)
         return EDMI_ERR_NULL;
-    if (!edmi__params_valid(&p))
-        return EDMI_ERR_PARAM;
+    st = edmi__params_valid(&p);
+    if (st != EDMI_OK)
+        return st;
     /* Zero every byte (padding included) so that snapshots compare with memcmp. */
     bytes = (unsigned char *)sys;
     for (i = 0; i < (unsigned long)sizeof *sys; i++)
@@ -4924,6 +5078,8 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3])
 {
     if (!sys || !g)
         return EDMI_ERR_NULL;
+    if (!EDMI_WITH_FIELD)
+        return EDMI_ERR_DISABLED;
     if (!edmi__finite3(g))
         return EDMI_ERR_NONFINITE;
     if (!edmi__counts_valid(sys))
@@ -5028,6 +5184,8 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
     int i;
     if (!sys || !f)
         return EDMI_ERR_NULL;
+    if (!EDMI_WITH_PORTS)
+        return EDMI_ERR_DISABLED;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
     if (a < 0 || a >= sys->n_bodies)
@@ -5046,6 +5204,11 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
 
 edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
 {
+#if !EDMI_WITH_SCENE
+    if (!sys || !scene)
+        return EDMI_ERR_NULL;
+    return EDMI_ERR_DISABLED;
+#else
     edmi_params p;
     edmi_status st;
     int i, gap = 0;
@@ -5057,8 +5220,11 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         scene->n_links > EDMI_MAX_LINKS || scene->n_dampers < 0 ||
         scene->n_dampers > EDMI_MAX_DAMPERS)
         return EDMI_ERR_CAPACITY;
-    if (!edmi__params_valid(&p))
-        return EDMI_ERR_PARAM;
+    st = edmi__params_valid(&p);
+    if (st != EDMI_OK)
+        return st;
+    if (scene->has_field && !EDMI_WITH_FIELD)
+        return EDMI_ERR_DISABLED;
     if (scene->has_field && !edmi__finite3(scene->g))
         return EDMI_ERR_NONFINITE;
     st = edmi__bodies_links_valid(scene->n_bodies, scene->bodies, scene->n_links, scene->links);
@@ -5134,11 +5300,12 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         sys->mass_off[hi][(c->a > c->b ? c->a - c->b : c->b - c->a) - 1] = c->m;
     }
 #endif
-    if (scene->has_field) {
+    if (EDMI_WITH_FIELD && scene->has_field) {
         sys->has_field = 1;
         edmi__copy3(scene->g, sys->g);
     }
     return EDMI_OK;
+#endif
 }
 
 /* ==========================================================================================
@@ -5198,7 +5365,7 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
             return st;
         iv.v += pp.v[0];
     }
-    if (sys->has_field)
+    if (EDMI__HAS_FIELD(sys))
         for (a = 0; a < sys->n_bodies; a++)
             iv.v -= edmi__mass_row(sys, a) * edmi__dot(sys->g, sys->body[a].q);
     iv.h = iv.k + iv.v;
@@ -5236,6 +5403,7 @@ const char *edmi_status_name(edmi_status s)
     case EDMI_ERR_DIVERGED: return "EDMI_ERR_DIVERGED";
     case EDMI_ERR_PASSIVITY: return "EDMI_ERR_PASSIVITY";
     case EDMI_ERR_RANGE: return "EDMI_ERR_RANGE";
+    case EDMI_ERR_DISABLED: return "EDMI_ERR_DISABLED";
     default: return "EDMI_ERR_UNKNOWN";
     }
 }

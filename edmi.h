@@ -11,7 +11,8 @@
  *
  * Read it in this order (README.md has three complete programs, docs/api.md the API by
  * group):
- *   Configuration    EDMI_REAL and the capacities EDMI_MAX_*: -D or an EDMI_USER_CONFIG file
+ *   Configuration    EDMI_REAL, the capacities EDMI_MAX_* and the features EDMI_WITH_*: -D or
+ *                    an EDMI_USER_CONFIG file
  *   Types            status codes, parameters, potentials, bodies, links, the system, scenes,
  *                    what a step reports (edmi_step_result), invariants
  *   Build a system   edmi_default_params, edmi_init, edmi_add_*, edmi_set_*, edmi_move_anchor,
@@ -89,6 +90,68 @@
 #define EDMI_MAX_MASS_GAP 0
 #endif
 
+/** Features. Each EDMI_WITH_* is 1 by default; 0 compiles the feature out of edmi.c (its
+ *  code and its branches in the step), and a call that would use it returns
+ *  EDMI_ERR_DISABLED with nothing changed. The flash each saves on the Cortex-M4F (float,
+ *  -Os) and the configurations `make cross` builds and tests: docs/sizing.md, "Build options".
+ *  The schemes (at least one): a guarded scheme (GE, PM, PT) always carries the guard. */
+#ifndef EDMI_WITH_MP
+#define EDMI_WITH_MP 1
+#endif
+#ifndef EDMI_WITH_LG
+#define EDMI_WITH_LG 1
+#endif
+#ifndef EDMI_WITH_GE
+#define EDMI_WITH_GE 1
+#endif
+#ifndef EDMI_WITH_PM
+#define EDMI_WITH_PM 1
+#endif
+#ifndef EDMI_WITH_PT
+#define EDMI_WITH_PT 1
+#endif
+/** The passivity guard (docs/energy-safe.md). A guarded scheme (GE, PM, PT) always carries
+ *  it: 0 is allowed only in a build of MP and LG alone, where EDMI_GUARD_ON is then refused. */
+#ifndef EDMI_WITH_GUARD
+#define EDMI_WITH_GUARD 1
+#endif
+/** LG's quotient form (EDMI_LG_QUOTIENT, also LG's form for a user potential without a
+ *  divided difference) with its alternate forces; with LG, EDMI_LG_CLOSED stays. */
+#ifndef EDMI_WITH_LG_QUOTIENT
+#define EDMI_WITH_LG_QUOTIENT EDMI_WITH_LG
+#endif
+/** The potentials (at least one): edmi_pot_<name>() still builds a value; a link with a
+ *  potential compiled out is refused. */
+#ifndef EDMI_WITH_HARMONIC
+#define EDMI_WITH_HARMONIC 1
+#endif
+#ifndef EDMI_WITH_QUARTIC
+#define EDMI_WITH_QUARTIC 1
+#endif
+#ifndef EDMI_WITH_NEO_HOOKE
+#define EDMI_WITH_NEO_HOOKE 1
+#endif
+#ifndef EDMI_WITH_LJ
+#define EDMI_WITH_LJ 1
+#endif
+#ifndef EDMI_WITH_INVERSE
+#define EDMI_WITH_INVERSE 1
+#endif
+#ifndef EDMI_WITH_USER
+#define EDMI_WITH_USER 1
+#endif
+/** The effects beyond links and the loader: edmi_set_field(), edmi_set_force() (the force
+ *  ports) and edmi_load_scene(). Moving anchors (edmi_move_anchor()) are always in. */
+#ifndef EDMI_WITH_FIELD
+#define EDMI_WITH_FIELD 1
+#endif
+#ifndef EDMI_WITH_PORTS
+#define EDMI_WITH_PORTS 1
+#endif
+#ifndef EDMI_WITH_SCENE
+#define EDMI_WITH_SCENE 1
+#endif
+
 /* Capacities the library cannot work with stop the build here, not at run time. The upper
  * bounds keep every index and matrix offset within int (the matrix is indexed up to 9 N^2). */
 #if EDMI_MAX_BODIES < 1 || EDMI_MAX_BODIES > 10000
@@ -105,6 +168,19 @@
 #endif
 #if EDMI_MAX_MATRIX < 9 || EDMI_MAX_MATRIX > 9 * EDMI_MAX_BODIES * EDMI_MAX_BODIES
 #error "edmi: EDMI_MAX_MATRIX must be 9 (one body) to 9 * EDMI_MAX_BODIES^2 (dense)"
+#endif
+#if !(EDMI_WITH_MP || EDMI_WITH_LG || EDMI_WITH_GE || EDMI_WITH_PM || EDMI_WITH_PT)
+#error "edmi: at least one scheme EDMI_WITH_MP, _LG, _GE, _PM or _PT must be 1"
+#endif
+#if !EDMI_WITH_GUARD && (EDMI_WITH_GE || EDMI_WITH_PM || EDMI_WITH_PT)
+#error "edmi: GE, PM and PT carry the guard: EDMI_WITH_GUARD = 0 needs them compiled out"
+#endif
+#if EDMI_WITH_LG_QUOTIENT && !EDMI_WITH_LG
+#error "edmi: EDMI_WITH_LG_QUOTIENT needs EDMI_WITH_LG"
+#endif
+#if !(EDMI_WITH_HARMONIC || EDMI_WITH_QUARTIC || EDMI_WITH_NEO_HOOKE || EDMI_WITH_LJ || \
+      EDMI_WITH_INVERSE || EDMI_WITH_USER)
+#error "edmi: at least one potential EDMI_WITH_HARMONIC, ... or EDMI_WITH_USER must be 1"
 #endif
 /* Array length behind EDMI_MAX_DAMPERS: C forbids zero-length arrays. */
 #if EDMI_MAX_DAMPERS > 0
@@ -208,10 +284,12 @@ typedef enum edmi_status {
                                   energy tank holds (values beyond the range its double-word
                                   arithmetic covers, or an excess larger than the kinetic
                                   energy it may remove) */
-    EDMI_ERR_RANGE           /*!< a result is beyond the precision's range although every
+    EDMI_ERR_RANGE,          /*!< a result is beyond the precision's range although every
                                   input is finite: a step's scale (|q| + dt |p| / m), its
                                   residual, work or energy balance, an invariant, a
                                   potential's derivative overflows (docs/api.md, "Limits") */
+    EDMI_ERR_DISABLED        /*!< a scheme, potential, LG form or effect this build compiled
+                                  out (an EDMI_WITH_* option set to 0) */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */

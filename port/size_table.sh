@@ -2,11 +2,14 @@
 # Print the `make cross` tables (GitHub markdown) from the built objects.
 #   usage: size_table.sh targets  LABEL SIZE NM OBJ FW_ELF  [LABEL SIZE NM OBJ FW_ELF]...
 #          size_table.sh capacity CAPS  LABEL SIZE NM DIR  [LABEL SIZE NM DIR]...
+#          size_table.sh options SIZE  NAME DEFS OBJ  [NAME DEFS OBJ]...
 # `targets`: one row per target: text/data/bss of edmi.o (Berkeley `size`), the symbols
 # edmi.o needs from outside, and the text of the minimal firmware port/fw_min.c linked with
 # everything it needs. `capacity`: for each capacity setting N-L-D in CAPS (space-separated)
 # and each target, edmi.o's text from DIR/N-L-D/edmi.o and the RAM
 # sizeof(edmi_system) + sizeof(edmi_workspace), read with `nm -S` from DIR/N-L-D/ramsize.o.
+# `options`: edmi.o's text per build option (the first NAME is the default build) and its
+# difference from the default.
 set -eu
 mode=$1
 shift
@@ -58,7 +61,22 @@ elif [ "$mode" = capacity ]; then
         done
         echo "$row"
     done
+elif [ "$mode" = options ]; then
+    size=$1
+    shift
+    echo "| build | what is in or out | edmi.o text | against the default |"
+    echo "|---|---|---:|---:|"
+    base=
+    while [ $# -ge 3 ]; do
+        name=$1 defs=$2 obj=$3
+        shift 3
+        read -r text _ _ <<<"$(sz "$size" "$obj")"
+        [ -n "$base" ] || base=$text
+        d=$((text - base))
+        [ $d -gt 0 ] && d=+$d
+        echo "| $name | ${defs:-(none)} | $text | $d |"
+    done
 else
-    echo "usage: size_table.sh targets|capacity ..." >&2
+    echo "usage: size_table.sh targets|capacity|options ..." >&2
     exit 2
 fi

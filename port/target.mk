@@ -7,8 +7,9 @@
 #                       Cortex-M0+ (soft float) and RISC-V rv32imac (-nostdlib): external-
 #                       reference checks, a link of port/fw_min.c that must leave nothing
 #                       undefined, the size table per target and the size per capacity setting
-#   make test-target    the unit test suite on QEMU mps2-an386 (Cortex-M4F, EDMI_REAL=float)
-#                       and mps2-an500 (Cortex-M7, double), tests/mass_matrix.c built
+#   make test-target    the unit test suite on QEMU mps2-an386 (Cortex-M4F, EDMI_REAL=float;
+#                       also in the coupling build) and mps2-an500 (Cortex-M7, double),
+#                       tests/mass_matrix.c built
 #                       with the general mass matrix (MASS_CFG) and tests/mass_spd.c with
 #                       every pair of 4 bodies coupled (MASS_SPD_CFG); last line "N passed,
 #                       N failed"
@@ -140,11 +141,33 @@ $(TGT)/cap-$(1)/$(2)/ramsize.o: port/ramcheck.c edmi.h
 endef
 $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),$(eval $(call tgt_cap_rules,$(p),$(c)))))
 
+# Build options (edmi.h, EDMI_WITH_*) on the Cortex-M4F, float, -Os: each feature alone
+# compiled out of the default build (an upper-case name X is -DEDMI_WITH_X=0; DAMPERS is
+# EDMI_MAX_DAMPERS=0), then the configurations the Makefile tests (FEAT_*), and coupling at a
+# one-body capacity (1 body, 2 links).
+TGT_OPTS := default MP LG LG_QUOTIENT GE PM PT HARMONIC QUARTIC NEO_HOOKE LJ INVERSE USER \
+            FIELD PORTS SCENE DAMPERS $(FEATURES) coupling-1
+FEAT_coupling-1 = $(FEAT_coupling) -DEDMI_MAX_BODIES=1 -DEDMI_MAX_LINKS=2
+tgt_optdefs = $(if $(filter default,$(1)),,$(if $(filter DAMPERS,$(1)),-DEDMI_MAX_DAMPERS=0,\
+                  $(if $(FEAT_$(1)),$(FEAT_$(1)),-DEDMI_WITH_$(1)=0)))
+$(TGT)/opt-m4f-float/%/edmi.o: edmi.c edmi.h
+	@mkdir -p $(@D)
+	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) -DEDMI_REAL=float \
+	    $(call tgt_optdefs,$*) -c $< -o $@
+TGT_OPT_OBJS := $(foreach o,$(TGT_OPTS),$(TGT)/opt-m4f-float/$(o)/edmi.o)
+TGT_OPT_DESC_default := every feature in
+TGT_OPT_DESC_decaying := the energy-safe schemes GE, PM, PT (MP and LG out)
+TGT_OPT_DESC_coupling := one PM virtual coupling: PM, harmonic, anchors and moving anchors, \
+    the guard (every other scheme and potential, the field, ports, scene loader, dampers out)
+TGT_OPT_DESC_conservative := MP and LG without the guard
+TGT_OPT_DESC_coupling-1 := coupling at a capacity of 1 body and 2 links
+tgt_optdesc = $(strip $(if $(TGT_OPT_DESC_$(1)),$(TGT_OPT_DESC_$(1)),$(call tgt_optdefs,$(1))))
+
 TGT_CROSS_OBJS := $(foreach p,$(TGT_CROSS),$(TGT)/cross-$(p)/edmi.o $(TGT)/cross-$(p)/fw_min.elf)
 TGT_CAP_OBJS := $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),\
                     $(TGT)/cap-$(p)/$(c)/edmi.o $(TGT)/cap-$(p)/$(c)/ramsize.o))
 
-tgt-cross: $(TGT_CROSS_OBJS) $(TGT_CAP_OBJS)
+tgt-cross: $(TGT_CROSS_OBJS) $(TGT_CAP_OBJS) $(TGT_OPT_OBJS)
 	@echo "### external references of edmi.o per target (tests/check_lib.sh)"
 	@bash tests/run_all.sh $(foreach p,$(TGT_CROSS),'bash tests/check_lib.sh \
 	    "$(TGT_NM_$(call tgt_arch,$(p)))" \
@@ -159,6 +182,9 @@ tgt-cross: $(TGT_CROSS_OBJS) $(TGT_CAP_OBJS)
 	@bash port/size_table.sh capacity '$(TGT_CAPS)' $(foreach p,$(TGT_CAP_TARGETS),\
 	    '$(firstword $(subst $(TGT_COMMA), ,$(TGT_LABEL_$(call tgt_arch,$(p))))) $(call tgt_real,$(p))' \
 	    $(TGT_SIZE_$(call tgt_arch,$(p))) $(TGT_NM_$(call tgt_arch,$(p))) $(TGT)/cap-$(p))
+	@echo "### size per build option: Cortex-M4F, float, -Os, edmi.o text in bytes"
+	@bash port/size_table.sh options $(ARM_SIZE) $(foreach o,$(TGT_OPTS),\
+	    '$(o)' '$(call tgt_optdesc,$(o))' $(TGT)/opt-m4f-float/$(o)/edmi.o)
 
 # ---- the emulated boards: start-up, semihosting, linker script --------------------------------
 TGT_BOARDS := an386 an500
@@ -248,12 +274,29 @@ $(foreach b,$(TGT_BOARDS),$(eval $(call tgt_board_rules,$(b))))
 
 TGT_RUN = TGT_TIMEOUT=$(TGT_TIMEOUT) TGT_QEMU=$(TGT_QEMU) bash port/run_qemu.sh
 
+# The suite once more on the Cortex-M4F in the coupling build (FEAT_coupling: what a haptic
+# firmware carries), skipping the cases that need what it leaves out.
+TGT_FEAT := $(TGT)/an386-coupling
+$(TGT_FEAT)/edmi.o: edmi.c edmi.h
+	@mkdir -p $(@D)
+	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) -DEDMI_REAL=float $(FEAT_coupling) \
+	    -c $< -o $@
+$(TGT_FEAT)/tests-%.o: tests/%.c edmi.h $(TGT_TEST_HDR) $(TGT_PORT_HDR)
+	@mkdir -p $(@D)
+	$(ARM_CC) $(STRICT) $(TGT_FLAGS_m4f) $(TGT_APP_OPT) -DEDMI_REAL=float $(FEAT_coupling) \
+	    -c $< -o $@
+$(TGT_FEAT)/edmi_tests.elf: $(TGT_FEAT)/edmi.o $(TGT_RT_an386) \
+		$(patsubst tests/%.c,$(TGT_FEAT)/tests-%.o,$(TGT_TEST_SRC)) $(TGT_LD)
+	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $(filter %.o,$^) -lm -lc -lgcc -o $@
+
 test-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/edmi_tests.elf $(TGT)/$(b)-mass/mass_tests.elf \
-		$(TGT)/$(b)-spd/mass_spd.elf)
+		$(TGT)/$(b)-spd/mass_spd.elf) $(TGT_FEAT)/edmi_tests.elf
 	EDMI_TEST_TIMEOUT=$$(($(TGT_TIMEOUT) + 30)) bash tests/run_all.sh \
 	    $(foreach b,$(TGT_BOARDS),'$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/edmi_tests.elf' \
 	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-mass/mass_tests.elf' \
-	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-spd/mass_spd.elf')
+	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-spd/mass_spd.elf') \
+	    '$(TGT_RUN) $(TGT_MACHINE_an386) $(TGT_FEAT)/edmi_tests.elf'
 
 # The benchmark once more on the Cortex-M4F for a one-body capacity (EDMI_MAX_BODIES, _LINKS,
 # _DAMPERS = 1): its bound is that of the smallest build. Same start-up objects.

@@ -9,16 +9,23 @@ cc=${1:?usage: check_flags.sh CC}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
+# refused LABEL WANT FLAGS...: edmi.c must fail to compile with FLAGS, with an #error whose
+# text contains WANT.
+refused() {
+    local label=$1 want=$2 out
+    shift 2
+    if out=$($cc -std=c99 "$@" -c edmi.c -o "$tmp/x.o" 2>&1); then
+        echo "FAIL $label: edmi.c compiled"; fail=$((fail + 1))
+    elif grep -q -- "$want" <<<"$out"; then
+        echo "ok   $label: refused with the #error"; pass=$((pass + 1))
+    else
+        echo "FAIL $label: failed, but not with the #error: $(head -1 <<<"$out")"
+        fail=$((fail + 1))
+    fi
+}
 for real in float double; do
     for mode in -ffast-math -Ofast -ffinite-math-only; do
-        if out=$($cc -std=c99 $mode -DEDMI_REAL=$real -c edmi.c -o "$tmp/x.o" 2>&1); then
-            echo "FAIL $mode ($real): edmi.c compiled"; fail=$((fail + 1))
-        elif grep -q 'edmi.c needs IEEE semantics' <<<"$out"; then
-            echo "ok   $mode ($real): refused with edmi.c's #error"; pass=$((pass + 1))
-        else
-            echo "FAIL $mode ($real): failed, but not with edmi.c's #error: $(head -1 <<<"$out")"
-            fail=$((fail + 1))
-        fi
+        refused "$mode ($real)" 'edmi.c needs IEEE semantics' $mode -DEDMI_REAL=$real
     done
     if $cc -std=c99 -O2 -ffp-contract=off -fno-math-errno -DEDMI_REAL=$real -c edmi.c \
             -o "$tmp/x.o" 2>/dev/null; then
@@ -76,14 +83,17 @@ done
 # Capacities the library cannot work with stop the build with edmi.h's #error.
 for cap in EDMI_MAX_BODIES=0 EDMI_MAX_LINKS=0 EDMI_MAX_DAMPERS=-1 EDMI_MAX_MATRIX=8 \
         EDMI_MAX_MATRIX=2305; do
-    if out=$($cc -std=c99 -D$cap -c edmi.c -o "$tmp/x.o" 2>&1); then
-        echo "FAIL -D$cap: edmi.c compiled"; fail=$((fail + 1))
-    elif grep -q "#error \"edmi: ${cap%=*} must be" <<<"$out"; then
-        echo "ok   -D$cap: refused with edmi.h's #error"; pass=$((pass + 1))
-    else
-        echo "FAIL -D$cap: failed, but not with edmi.h's #error: $(head -1 <<<"$out")"
-        fail=$((fail + 1))
-    fi
+    refused "-D$cap" "#error \"edmi: ${cap%=*} must be" -D$cap
+done
+# Feature options the library cannot work with stop the build with edmi.h's #error: no scheme,
+# no potential, the quotient form without LG, GE/PM/PT without the guard.
+for opts in "-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0 -DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0|at least one scheme" \
+        "-DEDMI_WITH_HARMONIC=0 -DEDMI_WITH_QUARTIC=0 -DEDMI_WITH_NEO_HOOKE=0 -DEDMI_WITH_LJ=0 -DEDMI_WITH_INVERSE=0 -DEDMI_WITH_USER=0|at least one potential" \
+        "-DEDMI_WITH_LG=0 -DEDMI_WITH_LG_QUOTIENT=1|EDMI_WITH_LG_QUOTIENT needs" \
+        "-DEDMI_WITH_GUARD=0|GE, PM and PT carry the guard"; do
+    defs=${opts%|*} want=${opts#*|}
+    # shellcheck disable=SC2086
+    refused "$defs" "#error \"edmi: $want" $defs
 done
 # EDMI_MAX_DAMPERS=0 compiles dampers out: the library has less code, refuses a damper (state
 # unchanged) and steps a system without dampers bit for bit as the default build does.
@@ -143,6 +153,71 @@ for real in float double; do
             "bit for bit as the default build; text $text0 B against $text16 B"
         pass=$((pass + 1))
     fi
+done
+
+# A build with features compiled out steps what it carries bit for bit as the default build:
+# a body on two harmonic anchor links (rest lengths 0 and 0.5), one anchor moving as a hand
+# would move it, 2000 steps; the coupling build with PM, the decaying one with GE, the
+# conservative one (no guard) with LG. Positions, momenta, tank and link forces compared.
+cat > "$tmp/feat.c" <<'EOC'
+#include <stdio.h>
+#include "edmi.h"
+static edmi_system sys;
+static edmi_workspace work;
+int main(void)
+{
+    const edmi_real q[3] = {1, 0.5, 0}, p[3] = {0.3, -0.2, 0.1}, o[3] = {0, 0, 0};
+    edmi_real x[3] = {2, 0, 0};
+    edmi_potential a = edmi_pot_harmonic(400, 0), b = edmi_pot_harmonic(150, EDMI_R(0.5));
+    edmi_params prm = edmi_default_params();
+    int n, i;
+    prm.scheme = SCHEME;
+    prm.fallback = 1;
+    if (edmi_init(&sys, &prm) != EDMI_OK || edmi_add_body(&sys, 1, q, p, NULL) != EDMI_OK ||
+        edmi_add_anchor(&sys, 0, o, &a, NULL) != EDMI_OK ||
+        edmi_add_anchor(&sys, 0, x, &b, NULL) != EDMI_OK)
+        return 1;
+    for (n = 0; n < 2000; n++) {
+        x[1] = EDMI_R(0.3) * (edmi_real)(n % 200) / EDMI_R(200.0);
+        if (edmi_move_anchor(&sys, 1, x) != EDMI_OK ||
+            edmi_step(&sys, &work, EDMI_R(1e-3), NULL) != EDMI_OK)
+            return 2;
+    }
+    for (i = 0; i < 3; i++)
+        printf("%a %a %a %a\n", (double)sys.body[0].q[i], (double)sys.body[0].p[i],
+               (double)sys.link_force[0][i], (double)sys.link_force[1][i]);
+    printf("%a\n", (double)sys.tank);
+    return 0;
+}
+EOC
+feat_coupling="-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0 -DEDMI_WITH_GE=0 -DEDMI_WITH_PT=0
+    -DEDMI_WITH_QUARTIC=0 -DEDMI_WITH_NEO_HOOKE=0 -DEDMI_WITH_LJ=0 -DEDMI_WITH_INVERSE=0
+    -DEDMI_WITH_USER=0 -DEDMI_WITH_FIELD=0 -DEDMI_WITH_PORTS=0 -DEDMI_WITH_SCENE=0
+    -DEDMI_MAX_DAMPERS=0"
+for real in float double; do
+    for cfg in "coupling|EDMI_PM|$feat_coupling" "decaying|EDMI_GE|-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0" \
+            "conservative|EDMI_LG|-DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0 -DEDMI_WITH_GUARD=0"; do
+        name=${cfg%%|*} rest=${cfg#*|}
+        scheme=${rest%%|*} defs=${rest#*|}
+        ok=1
+        for v in def feat; do
+            d=; [ $v = feat ] && d=$defs
+            # shellcheck disable=SC2086
+            $cc -std=c99 -O2 -ffp-contract=off -fno-math-errno -DEDMI_REAL=$real $d \
+                -c edmi.c -o "$tmp/f$v.o" &&
+                $cc -std=c99 -I. -DEDMI_REAL=$real $d -DSCHEME=$scheme "$tmp/feat.c" "$tmp/f$v.o" \
+                    -o "$tmp/feat$v" && "$tmp/feat$v" > "$tmp/fout$v" || ok=0
+        done
+        if [ $ok = 0 ]; then
+            echo "FAIL $name build ($real): a build or run failed"; fail=$((fail + 1))
+        elif ! cmp -s "$tmp/foutdef" "$tmp/foutfeat"; then
+            echo "FAIL $name build ($real): 2000 steps differ from the default build"
+            fail=$((fail + 1))
+        else
+            echo "ok   $name build ($real): 2000 $scheme steps bit for bit as the default build"
+            pass=$((pass + 1))
+        fi
+    done
 done
 
 echo "$pass passed, $fail failed"

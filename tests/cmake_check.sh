@@ -38,5 +38,18 @@ fi
 out=$(TGT_TIMEOUT=60 bash port/run_qemu.sh mps2-an386 "$m4f/spring.elf" 2>&1) &&
     grep -q 'float, 1000 PM steps, H never rose' <<<"$out" &&
     ok "Cortex-M4F: runs on QEMU mps2-an386 ($(head -1 <<<"$out"))" || bad "Cortex-M4F: $out"
+# EDMI_WITHOUT: a host build with the schemes but PM, the field, the ports and the scene
+# loader compiled out runs the same program to the same line.
+lean=$build/cmake-lean
+rm -rf "$lean"
+run "host, EDMI_WITHOUT=MP;LG;GE;PT;FIELD;PORTS;SCENE: configure" cmake -S examples/cmake \
+    -B "$lean" -DCMAKE_BUILD_TYPE=Release "-DEDMI_WITHOUT=MP;LG;GE;PT;FIELD;PORTS;SCENE"
+run "host, EDMI_WITHOUT: build" cmake --build "$lean"
+grep -q -- '-DEDMI_WITH_PORTS=0' "$lean/edmi/CMakeFiles/edmi.dir/flags.make" 2>/dev/null &&
+    ok "host, EDMI_WITHOUT: edmi.c compiled with EDMI_WITH_MP=0 ... EDMI_WITH_SCENE=0" ||
+    bad "host, EDMI_WITHOUT: the definitions are missing from edmi.c's flags"
+lout=$("$lean/spring" 2>&1) && [ "$lout" = "$("$host/spring" 2>&1)" ] &&
+    ok "host, EDMI_WITHOUT: the same output as the full build ($lout)" ||
+    bad "host, EDMI_WITHOUT: $lout"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -160,8 +160,76 @@ void th_note_int(const char *label, long v)
 
 int th_failed(void) { return (int)th_nfail; }
 
+int th_has_scheme(edmi_scheme s)
+{
+    switch (s) {
+    case EDMI_MP: return EDMI_WITH_MP;
+    case EDMI_LG: return EDMI_WITH_LG;
+    case EDMI_GE: return EDMI_WITH_GE;
+    case EDMI_PM: return EDMI_WITH_PM;
+    case EDMI_PT: return EDMI_WITH_PT;
+    default: return 0;
+    }
+}
+
+int th_has_pot(edmi_pot_kind k)
+{
+    switch (k) {
+    case EDMI_POT_HARMONIC: return EDMI_WITH_HARMONIC;
+    case EDMI_POT_QUARTIC: return EDMI_WITH_QUARTIC;
+    case EDMI_POT_NEO_HOOKE: return EDMI_WITH_NEO_HOOKE;
+    case EDMI_POT_LJ: return EDMI_WITH_LJ;
+    case EDMI_POT_INVERSE: return EDMI_WITH_INVERSE;
+    case EDMI_POT_USER: return EDMI_WITH_USER;
+    default: return 0;
+    }
+}
+
+int th_has_params(const edmi_params *p)
+{
+    return th_has_scheme(p->scheme) &&
+           (p->scheme != EDMI_LG || p->lg_form != EDMI_LG_QUOTIENT || EDMI_WITH_LG_QUOTIENT) &&
+           (p->guard != EDMI_GUARD_ON || EDMI_WITH_GUARD);
+}
+
+int th_has_system(const edmi_system *sys)
+{
+    int j;
+    if (!th_has_params(&sys->params) || (sys->has_field && !EDMI_WITH_FIELD) ||
+        (sys->n_forced > 0 && !EDMI_WITH_PORTS))
+        return 0;
+    for (j = 0; j < sys->n_links; j++) {
+        const edmi_potential *pot = &sys->link[j].pot;
+        if (!th_has_pot(pot->kind) ||
+            (pot->kind == EDMI_POT_USER && !pot->dd && sys->params.scheme == EDMI_LG &&
+             !EDMI_WITH_LG_QUOTIENT))
+            return 0;
+    }
+    return 1;
+}
+
+static long th_nskip;
+
+int th_skip(int have, const char *what)
+{
+    if (have)
+        return 0;
+    if (th_nskip < 20) {
+        th_puts("  skip (compiled out): ");
+        th_puts(what);
+        th_newline();
+    }
+    th_nskip++;
+    return 1;
+}
+
 int th_finish(void)
 {
+    if (th_nskip > 0) {
+        th_put_int(th_nskip);
+        th_puts(" cases skipped: they need what this build compiled out (EDMI_WITH_*)");
+        th_newline();
+    }
     th_put_int(th_npass);
     th_puts(" passed, ");
     th_put_int(th_nfail);

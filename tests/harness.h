@@ -33,6 +33,21 @@ int th_failed(void);
 #define CHECK_STATUS(call, want) \
     th_check((call) == (want), __FILE__, __LINE__, #call " == " #want)
 
+/* What this build carries (edmi.h, EDMI_WITH_*: the tests are compiled with the library's
+ * options). In the default build every feature is in and nothing is skipped. */
+int th_has_scheme(edmi_scheme s);
+int th_has_pot(edmi_pot_kind k);
+/* The scheme, for LG its form (the quotient form is EDMI_WITH_LG_QUOTIENT), and the guard
+ * where it is asked for (EDMI_GUARD_ON needs EDMI_WITH_GUARD). */
+int th_has_params(const edmi_params *p);
+/* Everything a system uses: its parameters, its links' potentials, a field, force ports. */
+int th_has_system(const edmi_system *sys);
+/* 1 (and counted and named in the log) when a test needs what this build compiled out
+ * (have == 0): the caller then skips that case. th_finish reports the count. */
+int th_skip(int have, const char *what);
+#define TH_NEEDS(have) \
+    do { if (th_skip((have) ? 1 : 0, #have)) return; } while (0)
+
 /* A line of context for the log: label = value. */
 void th_note_real(const char *label, edmi_real v);
 void th_note_int(const char *label, long v);

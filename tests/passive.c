@@ -567,6 +567,29 @@ edmi_status tp_build(tp_scene s, const edmi_params *prm, edmi_system *sys, edmi_
     }
 }
 
+int tp_scene_in(tp_scene s)
+{
+    switch (s) {
+    case TP_SPRING:
+        return EDMI_WITH_NEO_HOOKE;
+    case TP_PUMP:
+        return EDMI_WITH_HARMONIC && EDMI_MAX_DAMPERS > 0 && EDMI_WITH_PORTS;
+    case TP_RANDOM:
+    case TP_FLIP:
+        return EDMI_WITH_HARMONIC && EDMI_WITH_PORTS;
+    case TP_STIFF:
+        return EDMI_WITH_HARMONIC;
+    case TP_COLLIDE:
+        return EDMI_WITH_LJ && EDMI_WITH_HARMONIC;
+    case TP_COUPLING:
+        return EDMI_WITH_HARMONIC && EDMI_MAX_DAMPERS > 0;
+    case TP_CHAIN:
+    default:
+        return EDMI_WITH_NEO_HOOKE && EDMI_MAX_DAMPERS > 0 && EDMI_WITH_FIELD &&
+               EDMI_WITH_PORTS;
+    }
+}
+
 void tp_control(tp_scene s, edmi_system *sys, long n)
 {
     edmi_real f[3], x[3];
@@ -829,6 +852,24 @@ edmi_status tp_rest_build(tp_rest s, const edmi_params *prm, int damper, int use
     for (j = 0; damper && j < sys->n_links && st == EDMI_OK; j++)
         st = edmi_add_damper(sys, j, EDMI_R(5.0), 0);
     return st;
+}
+
+int tp_rest_in(tp_rest s, const edmi_params *prm, int damper, int user_dd)
+{
+    int pot;
+    switch (s) {
+    case TP_REST_NEO_HOOKE:
+        pot = EDMI_WITH_NEO_HOOKE;
+        break;
+    case TP_REST_USER:
+        pot = EDMI_WITH_USER && EDMI_WITH_HARMONIC &&
+              (user_dd || prm->scheme != EDMI_LG || EDMI_WITH_LG_QUOTIENT);
+        break;
+    default:
+        pot = EDMI_WITH_HARMONIC;
+        break;
+    }
+    return pot && (!damper || EDMI_MAX_DAMPERS > 0);
 }
 
 /* x 2^e in tp_q, in steps of 2^60, 2^8 and 2: exact wherever the result and the steps are

@@ -79,6 +79,12 @@ const char *tp_scene_name(tp_scene s);
  * runs it, into sys; *dt its time step. */
 edmi_status tp_build(tp_scene s, const edmi_params *prm, edmi_system *sys, edmi_real *dt);
 
+/* What scene s needs of the build beyond its parameters (EDMI_WITH_*, EDMI_MAX_DAMPERS): 1 when
+ * its potentials, dampers, field and ports are compiled in. Ask it, with the parameters'
+ * th_has_params (tests/harness.h), before tp_build or tp_run: a build without them refuses
+ * the scene (EDMI_ERR_DISABLED), and tp_control's port forces would be refused too. */
+int tp_scene_in(tp_scene s);
+
 /* The scene's controller before step n: port forces and anchor moves for the next tick. */
 void tp_control(tp_scene s, edmi_system *sys, long n);
 
@@ -156,6 +162,11 @@ int tp_user_harmonic_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, ed
  * LG falls back to the quotient). *dt its time step. */
 edmi_status tp_rest_build(tp_rest s, const edmi_params *prm, int damper, int user_dd,
                           edmi_system *sys, edmi_real *dt);
+
+/* The same question for tp_rest_build(s, prm, damper, user_dd, ...) and tp_rest_run (whose
+ * TP_REST_USER reference is the built-in harmonic): the potentials, the dampers, and for LG
+ * without user_dd its quotient form (EDMI_WITH_LG_QUOTIENT). prm's scheme is th_has_params'. */
+int tp_rest_in(tp_rest s, const edmi_params *prm, int damper, int user_dd);
 
 /* The per-step inequality H_n+1 - H_n <= W + T_n - T_n+1 on two stored states of a system
  * with no field whose links are zero-rest-length harmonic springs (evaluated on p and the

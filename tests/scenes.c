@@ -41,6 +41,7 @@
  * |dH - e_res|, the dissipation brackets) use at most 0.04 of this allowance in either
  * precision, i.e. the actual errors stay below one eps on these magnitudes. */
 #include "scenes.h"
+#include "harness.h"
 
 #define TS_C_ROUND EDMI_R(16.0)
 
@@ -108,6 +109,20 @@ const char *ts_alt_name(edmi_lg_alt a)
 {
     static const char *const names[5] = {"JANZ", "GONZALEZ", "GE", "PM", "PT"};
     return (unsigned)a < 5u ? names[a] : "?";
+}
+
+const char *ts_label(const char *a, const char *b)
+{
+    static char buf[80];
+    int n = 0;
+    while (*a && n < 79)
+        buf[n++] = *a++;
+    if (n < 79)
+        buf[n++] = ' ';
+    while (*b && n < 79)
+        buf[n++] = *b++;
+    buf[n] = '\0';
+    return buf;
 }
 
 /* ---- scenes ----------------------------------------------------------------------------- */
@@ -191,6 +206,25 @@ edmi_status ts_orbit(edmi_system *sys, const edmi_params *prm, edmi_real m, edmi
     if (st == EDMI_OK)
         st = edmi_add_anchor(sys, 0, x, &pot, 0);
     return st;
+}
+
+int ts_scene_in(ts_build build, const edmi_params *prm)
+{
+    edmi_pot_kind kind;
+    if (build == ts_spring)
+        kind = EDMI_POT_NEO_HOOKE;
+    else if (build == ts_lj2)
+        kind = EDMI_POT_LJ;
+    else if (build == ts_gravity)
+        kind = EDMI_POT_INVERSE;
+    else
+        return 0; /* not a scene of this file */
+    return th_has_params(prm) && th_has_pot(kind);
+}
+
+int ts_orbit_in(const edmi_params *prm)
+{
+    return th_has_params(prm) && th_has_pot(EDMI_POT_INVERSE);
 }
 
 /* ---- one step with its laws ------------------------------------------------------------- */

@@ -24,6 +24,10 @@ const char *ts_scheme_name(edmi_scheme s);
 /* "JANZ", "GONZALEZ", "GE", "PM", "PT". */
 const char *ts_alt_name(edmi_lg_alt a);
 
+/* "a b" for a log line (a skipped case's name), in a static buffer the next call reuses;
+ * cut at 79 characters. */
+const char *ts_label(const char *a, const char *b);
+
 /* ---- scenes --------------------------------------------------------------------------- */
 /* Parameters: the defaults with `scheme` set. */
 edmi_params ts_params(edmi_scheme scheme);
@@ -40,6 +44,14 @@ edmi_status ts_gravity(edmi_system *sys, const edmi_params *prm);
  * V = -k/r: q0 = (r0,0,0), p0 = (0, sqrt(m k / r0), 0). */
 edmi_status ts_orbit(edmi_system *sys, const edmi_params *prm, edmi_real m, edmi_real k,
                      edmi_real r0);
+
+/* What a scene needs of the build (EDMI_WITH_*): 1 when prm's scheme (and LG form) and the
+ * potential of the scene's links are compiled in. Ask before building: a build without them
+ * refuses the scene (EDMI_ERR_DISABLED), and the test skips the case (th_skip). `build` is
+ * ts_spring, ts_lj2 or ts_gravity; ts_orbit_in is ts_orbit's. */
+typedef edmi_status (*ts_build)(edmi_system *sys, const edmi_params *prm);
+int ts_scene_in(ts_build build, const edmi_params *prm);
+int ts_orbit_in(const edmi_params *prm);
 
 /* ---- one step with its conservation laws ----------------------------------------------- */
 /* Everything measured about one accepted step n -> n+1. R_q, R_p are the scheme's residuals

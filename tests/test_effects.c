@@ -54,6 +54,14 @@ static edmi_real eff_h_magnitude(const edmi_system *s)
     return m;
 }
 
+/* What eff_build_chain needs of the build: the scheme, neo-Hookean links, dampers, the
+ * field. */
+static int eff_chain_in(edmi_scheme scheme)
+{
+    return th_has_scheme(scheme) && th_has_pot(EDMI_POT_NEO_HOOKE) && EDMI_MAX_DAMPERS > 0 &&
+           EDMI_WITH_FIELD;
+}
+
 /* A hanging chain: anchor at the origin, four bodies of different mass on neo-Hookean
  * springs, a damper on every link, gravity, and a port force on the last body. */
 static void eff_build_chain(edmi_scheme scheme)
@@ -93,6 +101,7 @@ static void eff_balance(edmi_scheme scheme)
     static const edmi_real dt = EDMI_R(0.005);
     edmi_real worst = EDMI_R(0.0), dd_total = EDMI_R(0.0), w_total = EDMI_R(0.0);
     int k, a, bad = 0, neg_damp = 0, neg_scheme = 0;
+    TH_NEEDS(eff_chain_in(scheme) && EDMI_WITH_PORTS);
     eff_build_chain(scheme);
     for (k = 0; k < 400; k++) {
         edmi_invariants i0, i1;
@@ -169,6 +178,7 @@ static void eff_damped_momentum(edmi_scheme scheme)
     edmi_real dj = EDMI_R(0.0), dl = EDMI_R(0.0), dc = EDMI_R(0.0);
     int a, l, k, c;
     prm.scheme = scheme;
+    TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_LJ) && EDMI_MAX_DAMPERS > 0);
     CHECK_STATUS(edmi_init(&eff_sys, &prm), EDMI_OK);
     for (a = 0; a < 3; a++)
         CHECK_STATUS(edmi_add_body(&eff_sys, (edmi_real)(a + 1), qs[a], ps[a], NULL), EDMI_OK);
@@ -208,6 +218,7 @@ static void eff_free_fall(edmi_scheme scheme)
     edmi_real m = EDMI_R(2.0), t;
     int k, c;
     prm.scheme = scheme;
+    TH_NEEDS(th_has_params(&prm) && EDMI_WITH_FIELD);
     CHECK_STATUS(edmi_init(&eff_sys, &prm), EDMI_OK);
     CHECK_STATUS(edmi_add_body(&eff_sys, m, q0, p0, NULL), EDMI_OK);
     CHECK_STATUS(edmi_set_field(&eff_sys, g), EDMI_OK);
@@ -229,6 +240,7 @@ static void eff_invalid(void)
 {
     edmi_real nan3[3], ok3[3] = {EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_real zero = EDMI_R(0.0);
+    TH_NEEDS(eff_chain_in(EDMI_PM) && EDMI_WITH_PORTS);
     eff_build_chain(EDMI_PM);
     nan3[0] = zero / zero;
     nan3[1] = nan3[2] = EDMI_R(0.0);
@@ -276,6 +288,8 @@ static void eff_scene(void)
     edmi_potential lj = edmi_pot_lj(EDMI_R(100.0), EDMI_R(1.0));
     int k;
     prm.scheme = EDMI_PT;
+    TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_LJ) && EDMI_MAX_DAMPERS > 0 &&
+             EDMI_WITH_SCENE);
     links[0].a = 0;
     links[0].b = 1;
     links[0].anchor[0] = links[0].anchor[1] = links[0].anchor[2] = EDMI_R(0.0);

@@ -101,6 +101,9 @@ static void en_spring(void)
     for (s = 0; s < 5; s++) {
         edmi_params prm = ts_params(en_schemes[s]);
         ts_run run;
+        if (th_skip(ts_scene_in(ts_spring, &prm),
+                    ts_label("spring", ts_scheme_name(en_schemes[s]))))
+            continue;
         CHECK_STATUS(ts_spring(&ts_sys[0], &prm), EDMI_OK);
         ts_run_init(&run, &ts_sys[0]);
         ts_run_steps(&run, &ts_sys[0], &ts_work, dt, n);
@@ -125,6 +128,7 @@ static void en_mp_oscillates(void)
 {
     edmi_params prm = ts_params(EDMI_MP);
     ts_run run;
+    TH_NEEDS(ts_scene_in(ts_spring, &prm));
     CHECK_STATUS(ts_spring(&ts_sys[0], &prm), EDMI_OK);
     ts_run_init(&run, &ts_sys[0]);
     ts_run_steps(&run, &ts_sys[0], &ts_work, EDMI_R(1e-2), 100);
@@ -179,6 +183,9 @@ static void en_spring_lg_quotient(void)
         ts_run run;
         prm.lg_form = EDMI_LG_QUOTIENT;
         prm.lg_alt = (edmi_lg_alt)alt;
+        if (th_skip(ts_scene_in(ts_spring, &prm),
+                    ts_label("spring LG quotient", ts_alt_name(prm.lg_alt))))
+            continue;
         CHECK_STATUS(ts_spring(&ts_sys[0], &prm), EDMI_OK);
         ts_run_init(&run, &ts_sys[0]);
         ts_run_steps(&run, &ts_sys[0], &ts_work, dt, n);
@@ -196,6 +203,9 @@ static void en_spring_lg_quotient(void)
         prm.lg_form = EDMI_LG_QUOTIENT;
         prm.lg_alt = (edmi_lg_alt)alt;
         prm.tol_q = EN_QUOTIENT_TOLQ;
+        if (th_skip(ts_scene_in(ts_spring, &prm),
+                    ts_label("spring LG quotient", ts_alt_name(prm.lg_alt))))
+            continue;
         CHECK_STATUS(ts_spring(&ts_sys[0], &prm), EDMI_OK);
         ts_run_init(&run, &ts_sys[0]);
         ts_run_steps(&run, &ts_sys[0], &ts_work, dt, n);
@@ -212,7 +222,7 @@ static void en_spring_lg_quotient(void)
 }
 
 /* Many-body runs: J, L, C(t) and the energy laws. */
-static void en_many(const char *scene, edmi_status (*build)(edmi_system *, const edmi_params *),
+static void en_many(const char *scene, ts_build build,
                     edmi_real tol_r, edmi_real dt, long n, int mp_resolved)
 {
     int s;
@@ -220,6 +230,8 @@ static void en_many(const char *scene, edmi_status (*build)(edmi_system *, const
         edmi_params prm = ts_params(en_schemes[s]);
         ts_run run;
         prm.tol_r = tol_r;
+        if (th_skip(ts_scene_in(build, &prm), ts_label(scene, ts_scheme_name(en_schemes[s]))))
+            continue;
         CHECK_STATUS(build(&ts_sys[0], &prm), EDMI_OK);
         ts_run_init(&run, &ts_sys[0]);
         ts_run_steps(&run, &ts_sys[0], &ts_work, dt, n);

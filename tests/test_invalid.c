@@ -90,6 +90,13 @@ static int ti_build(edmi_scheme scheme)
            edmi_add_anchor(&ti_sys, 0, x, &nh, 0) == EDMI_OK;
 }
 
+/* ti_build's needs (EDMI_WITH_*): the scheme, LJ, harmonic and neo-Hookean links. */
+static int ti_build_in(edmi_scheme scheme)
+{
+    return th_has_scheme(scheme) && th_has_pot(EDMI_POT_LJ) &&
+           th_has_pot(EDMI_POT_HARMONIC) && th_has_pot(EDMI_POT_NEO_HOOKE);
+}
+
 /* A single body with one anchor link of potential *pot at the origin. */
 static int ti_build_one(edmi_real m, const edmi_real q[3], const edmi_real p[3],
                         const edmi_potential *pot, const edmi_params *prm)
@@ -135,6 +142,17 @@ static int ti_upot_fn(void *ctx, edmi_real r, edmi_pot_parts *out)
     return 0;
 }
 
+/* A ti_upot link (no divided difference) under prm (NULL: the defaults): user potentials,
+ * and for LG its quotient form. */
+static int ti_upot_in(const edmi_params *prm)
+{
+    edmi_params def = edmi_default_params();
+    if (!prm)
+        prm = &def;
+    return th_has_params(prm) && th_has_pot(EDMI_POT_USER) &&
+           (prm->scheme != EDMI_LG || EDMI_WITH_LG_QUOTIENT);
+}
+
 /* ------------------------------------------------------------------------------------------
  * Status names
  * ---------------------------------------------------------------------------------------- */
@@ -146,9 +164,9 @@ static void ti_status_names(void)
         "EDMI_ERR_MASS",     "EDMI_ERR_NONFINITE",     "EDMI_ERR_CAPACITY",
         "EDMI_ERR_INDEX",    "EDMI_ERR_PARAM",         "EDMI_ERR_COINCIDENT",
         "EDMI_ERR_SINGULAR", "EDMI_ERR_NO_CONVERGENCE", "EDMI_ERR_DIVERGED",
-        "EDMI_ERR_PASSIVITY", "EDMI_ERR_RANGE"};
+        "EDMI_ERR_PASSIVITY", "EDMI_ERR_RANGE",   "EDMI_ERR_DISABLED"};
     int n = (int)(sizeof want / sizeof want[0]), i, j;
-    CHECK(n == (int)EDMI_ERR_RANGE + 1);
+    CHECK(n == (int)EDMI_ERR_DISABLED + 1);
     for (i = 0; i < n; i++) {
         const char *s = edmi_status_name((edmi_status)i);
         if (!CHECK(s != 0))
@@ -199,7 +217,7 @@ static void ti_params(void)
     bad[nb++].tank_cap = nan;
     bad[nb++].tank_cap = inf;
 
-    if (!CHECK(ti_build(EDMI_PM)))
+    if (th_skip(ti_build_in(EDMI_PM), "ti_build(EDMI_PM)") || !CHECK(ti_build(EDMI_PM)))
         return;
     for (i = 0; i < nb; i++) {
         int f0 = th_failed();
@@ -211,6 +229,8 @@ static void ti_params(void)
     TI_EXPECT(edmi_set_params(&ti_sys, 0), EDMI_ERR_NULL);
 
     /* Success paths change what they should. */
+    if (th_skip(th_has_scheme(EDMI_GE), "GE"))
+        return;
     good = def;
     good.scheme = EDMI_GE;
     good.l_max = 7;
@@ -239,7 +259,7 @@ static void ti_add_body(void)
     edmi_real bq[3], bp[3];
     int i, idx = -5;
 
-    if (!CHECK(ti_build(EDMI_MP)))
+    if (th_skip(ti_build_in(EDMI_MP), "ti_build(EDMI_MP)") || !CHECK(ti_build(EDMI_MP)))
         return;
     CHECK_STATUS(edmi_add_body(0, EDMI_R(1.0), q, p, 0), EDMI_ERR_NULL);
     TI_EXPECT(edmi_add_body(&ti_sys, EDMI_R(1.0), 0, p, 0), EDMI_ERR_NULL);
@@ -287,7 +307,7 @@ static void ti_add_links(void)
     badpot[nbp++] = edmi_pot_inverse(EDMI_R(0.0));
     badpot[nbp++] = edmi_pot_user(0, 0, 0);
 
-    if (!CHECK(ti_build(EDMI_LG)))
+    if (th_skip(ti_build_in(EDMI_LG), "ti_build(EDMI_LG)") || !CHECK(ti_build(EDMI_LG)))
         return;
     /* NULL */
     CHECK_STATUS(edmi_add_pair(0, 0, 1, &good, 0), EDMI_ERR_NULL);
@@ -353,7 +373,7 @@ static void ti_step_input(void)
     edmi_invariants inv;
     int a, i, sa, sb;
 
-    if (!CHECK(ti_build(EDMI_PT)))
+    if (th_skip(ti_build_in(EDMI_PT), "ti_build(EDMI_PT)") || !CHECK(ti_build(EDMI_PT)))
         return;
     for (a = 0; a < 3; a++)
         for (i = 0; i < 3; i++) {
@@ -519,6 +539,10 @@ static void ti_coincident(void)
         prm.scheme = schemes[s];
         if (s == 2)
             prm.lg_form = EDMI_LG_QUOTIENT;
+        if (th_skip(th_has_params(&prm) && th_has_pot(EDMI_POT_LJ) &&
+                        th_has_pot(EDMI_POT_NEO_HOOKE),
+                    "coincident: scheme, LJ, neo-Hooke"))
+            continue;
         /* linked pair at one point */
         if (!CHECK(edmi_init(&ti_sys, &prm) == EDMI_OK &&
                    edmi_add_body(&ti_sys, EDMI_R(1.0), q, pa, 0) == EDMI_OK &&
@@ -546,6 +570,9 @@ static void ti_coincident(void)
             th_note_int("coincident: scheme (3 = LG quotient)", s);
     }
     /* Coincident but unlinked: bodies 1 and 2 share a point, links 0-1 and 0-anchor. */
+    if (th_skip(th_has_pot(EDMI_POT_LJ) && th_has_pot(EDMI_POT_NEO_HOOKE),
+                "coincident: LJ, neo-Hooke"))
+        return;
     if (CHECK(edmi_init(&ti_sys, 0) == EDMI_OK &&
               edmi_add_body(&ti_sys, EDMI_R(1.0), qo, pa, 0) == EDMI_OK &&
               edmi_add_body(&ti_sys, EDMI_R(1.0), q, pb, 0) == EDMI_OK &&
@@ -575,6 +602,7 @@ static void ti_singular(void)
     edmi_real qb[3] = {EDMI_R(-1.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_potential pot1 = edmi_pot_user(ti_upot_fn, 0, &one);
     edmi_potential pot2 = edmi_pot_user(ti_upot_fn, 0, &two);
+    TH_NEEDS(ti_upot_in(0));
     if (CHECK(ti_build_one(EDMI_R(1.0), q, ti_zero3, &pot1, 0))) {
         ti_dirty_res();
         TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(0.5), &ti_res), EDMI_ERR_SINGULAR);
@@ -611,7 +639,9 @@ static void ti_no_convergence(void)
         prm.l_max = 1;
         prm.tol_r = EDMI_EPS * EDMI_EPS;
         prm.tol_a = EDMI_EPS * EDMI_EPS;
-        if (!CHECK(ti_build_one(EDMI_R(10.0), q, p, &nh, &prm)))
+        if (th_skip(th_has_params(&prm) && th_has_pot(EDMI_POT_NEO_HOOKE),
+                    "no convergence: scheme, neo-Hooke") ||
+            !CHECK(ti_build_one(EDMI_R(10.0), q, p, &nh, &prm)))
             continue;
         ti_dirty_res();
         TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(0.05), &ti_res), EDMI_ERR_NO_CONVERGENCE);
@@ -646,6 +676,8 @@ static void ti_diverged(void)
         edmi_params prm = edmi_default_params();
         prm.scheme = schemes[s];
         int f0 = th_failed();
+        if (th_skip(ti_upot_in(&prm), "diverged: scheme, user potential"))
+            continue;
         if (CHECK(ti_build_one(EDMI_R(1.0), q, p, &pn, &prm)))
             TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(0.1), &ti_res), EDMI_ERR_DIVERGED);
         if (CHECK(ti_build_one(EDMI_R(1.0), q, p, &pr, &prm))) {
@@ -660,6 +692,7 @@ static void ti_diverged(void)
      * point, which the domain guard halves */
     prm_mp = edmi_default_params();
     prm_mp.scheme = EDMI_MP;
+    TH_NEEDS(ti_upot_in(&prm_mp));
     if (CHECK(ti_build_one(EDMI_R(1.0), q0, p0, &pz, &prm_mp))) {
         ti_dirty_res();
         if (edmi_is_double_precision()) {
@@ -685,7 +718,8 @@ static void ti_success(void)
     int s;
     for (s = 0; s < 5; s++) {
         int f0 = th_failed();
-        if (!CHECK(ti_build(schemes[s])))
+        if (th_skip(ti_build_in(schemes[s]), "ti_build(scheme)") ||
+            !CHECK(ti_build(schemes[s])))
             continue;
         ti_snapshot();
         ti_dirty_res();
@@ -705,6 +739,140 @@ static void ti_success(void)
     }
 }
 
+/* ------------------------------------------------------------------------------------------
+ * What this build compiled out (EDMI_WITH_*): EDMI_ERR_DISABLED, the system bit-identical
+ * ---------------------------------------------------------------------------------------- */
+
+/* V = r^2 / 2 as a user potential (V_c = V_+ = V, V_e = V_- = 0), with its divided
+ * difference (d0 + d1) / 2, so that it needs no LG quotient form. */
+static int ti_half_sq_fn(void *ctx, edmi_real r, edmi_pot_parts *out)
+{
+    int j;
+    (void)ctx;
+    for (j = 0; j < 5; j++)
+        out->c[j] = out->e[j] = out->sp[j] = out->sm[j] = EDMI_R(0.0);
+    out->c[0] = out->sp[0] = EDMI_R(0.5) * r * r;
+    out->c[1] = out->sp[1] = r;
+    out->c[2] = out->sp[2] = EDMI_R(1.0);
+    return 0;
+}
+
+static int ti_half_sq_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1)
+{
+    (void)ctx;
+    *dd = EDMI_R(0.5) * (d0 + d1);
+    *dd_d1 = EDMI_R(0.5);
+    return 0;
+}
+
+/* The call gives EDMI_OK where the build has what it uses, else EDMI_ERR_DISABLED and the
+ * system unchanged. */
+#define TI_HAVE(call, have)                        \
+    do {                                           \
+        if (have)                                  \
+            CHECK_STATUS(call, EDMI_OK);           \
+        else                                       \
+            TI_EXPECT(call, EDMI_ERR_DISABLED);    \
+    } while (0)
+
+/* One body at (1.5, 0, 0) moving along y, the defaults, and an anchor link at the origin of
+ * potential *pot (none if NULL). */
+static int ti_base(const edmi_potential *pot)
+{
+    const edmi_real q[3] = {EDMI_R(1.5), EDMI_R(0.0), EDMI_R(0.0)};
+    const edmi_real p[3] = {EDMI_R(0.0), EDMI_R(1.0), EDMI_R(0.0)};
+    return edmi_init(&ti_sys, 0) == EDMI_OK &&
+           edmi_add_body(&ti_sys, EDMI_R(1.0), q, p, 0) == EDMI_OK &&
+           (!pot || edmi_add_anchor(&ti_sys, 0, ti_zero3, pot, 0) == EDMI_OK);
+}
+
+static void ti_disabled(void)
+{
+    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    const edmi_real g[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(-9.81)};
+    const edmi_real f[3] = {EDMI_R(1.0), EDMI_R(-2.0), EDMI_R(0.5)};
+    edmi_potential pots[6];
+    const edmi_potential *in = 0; /* the first potential this build carries */
+    edmi_params prm = edmi_default_params();
+    edmi_pot_parts pp;
+    edmi_real dd, dd1;
+    edmi_body body;
+    edmi_link link;
+    edmi_scene sc;
+    int k;
+
+    pots[0] = edmi_pot_harmonic(EDMI_R(1.0), EDMI_R(1.0));
+    pots[1] = edmi_pot_quartic(EDMI_R(1.0), EDMI_R(1.0));
+    pots[2] = edmi_pot_neo_hooke(EDMI_R(1.0), EDMI_R(1.0));
+    pots[3] = edmi_pot_lj(EDMI_R(1.0), EDMI_R(1.0));
+    pots[4] = edmi_pot_inverse(EDMI_R(1.0));
+    pots[5] = edmi_pot_user(ti_half_sq_fn, ti_half_sq_dd, 0);
+    for (k = 5; k >= 0; k--)
+        if (th_has_pot(pots[k].kind))
+            in = &pots[k];
+
+    /* Schemes, and LG's quotient form where LG is in. */
+    for (k = 0; k < 5; k++) {
+        prm = edmi_default_params();
+        prm.scheme = schemes[k];
+        if (!CHECK(ti_base(in)))
+            continue;
+        TI_HAVE(edmi_set_params(&ti_sys, &prm), th_has_scheme(schemes[k]));
+        CHECK(ti_base(in));
+        TI_HAVE(edmi_init(&ti_sys, &prm), th_has_scheme(schemes[k]));
+    }
+    if (th_has_scheme(EDMI_LG)) {
+        prm = edmi_default_params();
+        prm.scheme = EDMI_LG;
+        prm.lg_form = EDMI_LG_QUOTIENT;
+        CHECK(ti_base(in));
+        TI_HAVE(edmi_init(&ti_sys, &prm), EDMI_WITH_LG_QUOTIENT);
+    }
+
+    /* Potentials: a link of each kind, its evaluation and its divided difference. */
+    for (k = 0; k < 6; k++) {
+        int have = th_has_pot(pots[k].kind);
+        if (!CHECK(ti_base(0)))
+            continue;
+        TI_HAVE(edmi_add_anchor(&ti_sys, 0, ti_zero3, &pots[k], 0), have);
+        CHECK_STATUS(edmi_pot_eval(&pots[k], EDMI_R(1.5), &pp),
+                     have ? EDMI_OK : EDMI_ERR_DISABLED);
+        CHECK_STATUS(edmi_pot_divdiff(&pots[k], EDMI_R(1.5), EDMI_R(2.0), &dd, &dd1),
+                     have ? EDMI_OK : EDMI_ERR_DISABLED);
+    }
+
+    /* The field, a port force, a scene. */
+    CHECK(ti_base(in));
+    TI_HAVE(edmi_set_field(&ti_sys, g), EDMI_WITH_FIELD);
+    CHECK(ti_base(in));
+    TI_HAVE(edmi_set_force(&ti_sys, 0, f), EDMI_WITH_PORTS);
+    memcpy(&body, &ti_sys.body[0], sizeof body);
+    memset(&link, 0, sizeof link);
+    link.a = 0;
+    link.b = EDMI_ANCHOR;
+    link.pot = *in;
+    memset(&sc, 0, sizeof sc);
+    sc.n_bodies = 1;
+    sc.bodies = &body;
+    sc.n_links = 1;
+    sc.links = &link;
+    CHECK(ti_base(0));
+    TI_HAVE(edmi_load_scene(&ti_sys, &sc), EDMI_WITH_SCENE);
+
+    /* The field or a port written into the struct by hand: the step refuses them. */
+    if (!EDMI_WITH_FIELD && CHECK(ti_base(in))) {
+        ti_sys.has_field = 1;
+        memcpy(ti_sys.g, g, sizeof g);
+        TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(1e-3), &ti_res), EDMI_ERR_DISABLED);
+    }
+    if (!EDMI_WITH_PORTS && CHECK(ti_base(in))) {
+        ti_sys.n_forced = 1;
+        ti_sys.forced[0] = 0;
+        memcpy(ti_sys.force[0], f, sizeof f);
+        TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(1e-3), &ti_res), EDMI_ERR_DISABLED);
+    }
+}
+
 void suite_invalid(void)
 {
     th_suite("invalid: exact status, system bit-identical");
@@ -718,4 +886,5 @@ void suite_invalid(void)
     ti_no_convergence();
     ti_diverged();
     ti_success();
+    ti_disabled();
 }

@@ -321,6 +321,9 @@ static void orb_scene_checks(orb_scene sc)
     const int dbl = edmi_is_double_precision();
     const orb_stats *ref;
     int v, n_var = dbl ? 2 : ORB_NVAR; /* double compares with PM guard off only */
+    TH_NEEDS(th_has_pot(sc == ORB_GRAV ? EDMI_POT_INVERSE : EDMI_POT_LJ) &&
+             th_has_scheme(EDMI_PM) &&
+             (dbl || (th_has_scheme(EDMI_MP) && th_has_scheme(EDMI_LG))));
     for (v = 0; v < n_var; v++) {
         orb_run(sc, v, &st[v]);
         orb_log(sc, v, &st[v]);

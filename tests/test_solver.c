@@ -23,6 +23,12 @@ static int solver_slot(int i, int scrambled)
     return (i % 2) ? SOLVER_N / 2 + i / 2 : i / 2;
 }
 
+/* What solver_build needs of the build: the scheme and quartic links. */
+static int solver_in(edmi_scheme scheme)
+{
+    return th_has_scheme(scheme) && th_has_pot(EDMI_POT_QUARTIC);
+}
+
 /* A quartic-spring chain (nonlinear, with a non-trivial convex/concave split) whose bodies
  * get different transverse momenta; body masses vary so the Newton rows are scaled unevenly. */
 static void solver_build(edmi_system *s, edmi_scheme scheme, int scrambled)
@@ -64,6 +70,7 @@ static void solver_numbering(edmi_scheme scheme)
     edmi_real worst = EDMI_R(0.0);
     int k, i, c, iters_max = 0;
     edmi_step_result ra, rb;
+    TH_NEEDS(solver_in(scheme));
     solver_build(&sys_a, scheme, 0);
     solver_build(&sys_b, scheme, 1);
     for (k = 0; k < 200; k++) {
@@ -97,6 +104,7 @@ static void solver_numbering(edmi_scheme scheme)
 static void solver_bitwise(void)
 {
     int k;
+    TH_NEEDS(solver_in(EDMI_PT));
     solver_build(&sys_a, EDMI_PT, 1);
     solver_build(&sys_b, EDMI_PT, 1);
     for (k = 0; k < 100; k++) {
@@ -119,6 +127,7 @@ static void solver_state_writes(void)
 {
     static edmi_system before;
     int k, i;
+    TH_NEEDS(solver_in(EDMI_PM));
     solver_build(&sys_a, EDMI_PM, 0);
     solver_build(&sys_b, EDMI_PM, 0);
     for (k = 0; k < 50; k++)
@@ -207,6 +216,7 @@ static void solver_kept(void)
     static const edmi_real tol_rel = EDMI_R(1000.0) * EDMI_EPS;
     edmi_real worst = EDMI_R(0.0), worst_stale = EDMI_R(0.0);
     int k, i, c, its_kept = 0, its_fresh = 0, its_s = 0, its_sf = 0;
+    TH_NEEDS(th_has_scheme(EDMI_PM) && th_has_pot(EDMI_POT_INVERSE));
     solver_kept_build(&sys_a);
     for (k = 0; k < 400; k++)
         if (!solver_kept_step(&worst, &its_kept, &its_fresh))

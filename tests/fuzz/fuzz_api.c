@@ -274,7 +274,7 @@ static int fz_finite_n(const edmi_real *x, int n)
 
 static void fz_status(edmi_status st, const char *call)
 {
-    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_RANGE)
+    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_DISABLED)
         fz_fail("status out of range", call, st);
 }
 
@@ -912,7 +912,7 @@ static void fz_op_null(void)
     (void)y;
     if (memcmp(&fz_sys, &fz_before, sizeof fz_sys) != 0)
         fz_fail("system changed", "a call with a NULL pointer", EDMI_ERR_NULL);
-    for (k = -2; k <= (int)EDMI_ERR_RANGE + 2; k++)
+    for (k = -2; k <= (int)EDMI_ERR_DISABLED + 2; k++)
         if (edmi_status_name((edmi_status)k) == 0)
             fz_fail("no status name", "edmi_status_name", (edmi_status)k);
     if (!EDMI_CONFIG_MATCHES() || edmi_config_matches(0, (unsigned long)sizeof fz_work) ||
