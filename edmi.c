@@ -65,14 +65,16 @@
  * of an out-of-bounds kd[] access in the unreachable body otherwise. */
 #define EDMI__N_DAMPERS(s) (EDMI_MAX_DAMPERS > 0 ? (s)->n_dampers : 0)
 /* The schemes and potential kinds this build carries (edmi.h, EDMI_WITH_*): bit k is scheme
- * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT are constants, so a test such as
- * EDMI__HAS_SCHEME(EDMI_LG) && p->scheme == EDMI_LG drops the code behind it when LG is out.
+ * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT of a constant are constants, so a test such as
+ * EDMI__HAS_SCHEME(EDMI_LG) && p->scheme == EDMI_LG drops the code behind it when LG is out;
+ * with every one in (all five schemes, all six kinds) they are 1 for any value, so the
+ * validators test nothing more than the default build needs.
  * The decaying Lambdas are needed by their schemes and by LG's alternates. */
 #define EDMI__SCHEMES                                                                      \
     ((unsigned)EDMI_WITH_MP << EDMI_MP | (unsigned)EDMI_WITH_LG << EDMI_LG |               \
      (unsigned)EDMI_WITH_GE << EDMI_GE | (unsigned)EDMI_WITH_PM << EDMI_PM |               \
      (unsigned)EDMI_WITH_PT << EDMI_PT)
-#define EDMI__HAS_SCHEME(x) ((EDMI__SCHEMES >> (x) & 1u) != 0)
+#define EDMI__HAS_SCHEME(x) (EDMI__SCHEMES == 31u || (EDMI__SCHEMES >> (x) & 1u) != 0)
 #define EDMI__DECAYING                                                                     \
     (EDMI__SCHEMES | (EDMI_WITH_LG_QUOTIENT ? 1u << EDMI_GE | 1u << EDMI_PM | 1u << EDMI_PT : 0u))
 #define EDMI__HAS_DECAYING(x) ((EDMI__DECAYING >> (x) & 1u) != 0)
@@ -81,7 +83,7 @@
      (unsigned)EDMI_WITH_QUARTIC << EDMI_POT_QUARTIC |                                     \
      (unsigned)EDMI_WITH_NEO_HOOKE << EDMI_POT_NEO_HOOKE | (unsigned)EDMI_WITH_LJ << EDMI_POT_LJ | \
      (unsigned)EDMI_WITH_INVERSE << EDMI_POT_INVERSE | (unsigned)EDMI_WITH_USER << EDMI_POT_USER)
-#define EDMI__HAS_POT(k) ((EDMI__POTS >> (k) & 1u) != 0)
+#define EDMI__HAS_POT(k) (EDMI__POTS == 63u || (EDMI__POTS >> (k) & 1u) != 0)
 /* The field and the force ports in use: the constant 0 when compiled out (as dampers). */
 #define EDMI__HAS_FIELD(s) (EDMI_WITH_FIELD && (s)->has_field)
 #define EDMI__N_FORCED(s) (EDMI_WITH_PORTS ? (s)->n_forced : 0)

@@ -289,7 +289,9 @@ typedef enum edmi_status {
                                   residual, work or energy balance, an invariant, a
                                   potential's derivative overflows (docs/api.md, "Limits") */
     EDMI_ERR_DISABLED        /*!< a scheme, potential, LG form or effect this build compiled
-                                  out (an EDMI_WITH_* option set to 0) */
+                                  out (an EDMI_WITH_* option set to 0); checked after the
+                                  pointers, counts and values: an invalid potential of a kind
+                                  compiled out is EDMI_ERR_PARAM */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */

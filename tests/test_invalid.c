@@ -66,8 +66,28 @@ static int ti_res_zeroed(void)
 
 static const edmi_real ti_zero3[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
 
-/* A valid 3-body system: LJ pair 0-1, harmonic pair 1-2, neo-Hookean anchor on body 0. */
-static int ti_build(edmi_scheme scheme)
+/* The potential pot, or where the build left its kind out (EDMI_WITH_*) a harmonic spring of
+ * rest length 1.3 (or, without that, a potential the build carries), for the tests of the
+ * input checks: which force acts does not change a status they expect. */
+static edmi_potential ti_pot_in(edmi_potential pot)
+{
+    if (th_has_pot(pot.kind))
+        return pot;
+    if (th_has_pot(EDMI_POT_HARMONIC))
+        return edmi_pot_harmonic(EDMI_R(50.0), EDMI_R(1.3));
+    if (th_has_pot(EDMI_POT_QUARTIC))
+        return edmi_pot_quartic(EDMI_R(50.0), EDMI_R(1.3));
+    if (th_has_pot(EDMI_POT_NEO_HOOKE))
+        return edmi_pot_neo_hooke(EDMI_R(50.0), EDMI_R(1.3));
+    if (th_has_pot(EDMI_POT_LJ))
+        return edmi_pot_lj(EDMI_R(1.0), EDMI_R(1.0));
+    return edmi_pot_inverse(EDMI_R(-1.0)); /* (a build with user potentials alone: not run) */
+}
+
+/* A valid 3-body system: LJ pair 0-1, harmonic pair 1-2, neo-Hookean anchor on body 0. With
+ * `any`, for the tests of the input checks, each part the build left out is replaced: the
+ * scheme by the default one, a potential by ti_pot_in's (the default build is unchanged). */
+static int ti_build_with(edmi_scheme scheme, int any)
 {
     edmi_params prm = edmi_default_params();
     edmi_real q0[3] = {EDMI_R(0.0), EDMI_R(-0.5612), EDMI_R(0.0)};
@@ -80,7 +100,12 @@ static int ti_build(edmi_scheme scheme)
     edmi_potential lj = edmi_pot_lj(EDMI_R(100.0), EDMI_R(1.0));
     edmi_potential hs = edmi_pot_harmonic(EDMI_R(50.0), EDMI_R(1.3));
     edmi_potential nh = edmi_pot_neo_hooke(EDMI_R(1000.0), EDMI_R(2.5));
-    prm.scheme = scheme;
+    prm.scheme = any && !th_has_scheme(scheme) ? edmi_default_params().scheme : scheme;
+    if (any) {
+        lj = ti_pot_in(lj);
+        hs = ti_pot_in(hs);
+        nh = ti_pot_in(nh);
+    }
     return edmi_init(&ti_sys, &prm) == EDMI_OK &&
            edmi_add_body(&ti_sys, EDMI_R(1.0), q0, p0, 0) == EDMI_OK &&
            edmi_add_body(&ti_sys, EDMI_R(1.0), q1, p1, 0) == EDMI_OK &&
@@ -88,6 +113,19 @@ static int ti_build(edmi_scheme scheme)
            edmi_add_pair(&ti_sys, 0, 1, &lj, 0) == EDMI_OK &&
            edmi_add_pair(&ti_sys, 1, 2, &hs, 0) == EDMI_OK &&
            edmi_add_anchor(&ti_sys, 0, x, &nh, 0) == EDMI_OK;
+}
+
+static int ti_build(edmi_scheme scheme) { return ti_build_with(scheme, 0); }
+
+/* ti_build_with(scheme, 1), for the input checks: skipped (1) in a build with user potentials
+ * alone; else 1 when it failed. */
+static int ti_build_any_fails(edmi_scheme scheme)
+{
+    return th_skip(th_has_pot(EDMI_POT_HARMONIC) || th_has_pot(EDMI_POT_QUARTIC) ||
+                       th_has_pot(EDMI_POT_NEO_HOOKE) || th_has_pot(EDMI_POT_LJ) ||
+                       th_has_pot(EDMI_POT_INVERSE),
+                   "a built-in potential") ||
+           !CHECK(ti_build_with(scheme, 1));
 }
 
 /* ti_build's needs (EDMI_WITH_*): the scheme, LJ, harmonic and neo-Hookean links. */
@@ -217,7 +255,7 @@ static void ti_params(void)
     bad[nb++].tank_cap = nan;
     bad[nb++].tank_cap = inf;
 
-    if (th_skip(ti_build_in(EDMI_PM), "ti_build(EDMI_PM)") || !CHECK(ti_build(EDMI_PM)))
+    if (ti_build_any_fails(EDMI_PM))
         return;
     for (i = 0; i < nb; i++) {
         int f0 = th_failed();
@@ -259,7 +297,7 @@ static void ti_add_body(void)
     edmi_real bq[3], bp[3];
     int i, idx = -5;
 
-    if (th_skip(ti_build_in(EDMI_MP), "ti_build(EDMI_MP)") || !CHECK(ti_build(EDMI_MP)))
+    if (ti_build_any_fails(EDMI_MP))
         return;
     CHECK_STATUS(edmi_add_body(0, EDMI_R(1.0), q, p, 0), EDMI_ERR_NULL);
     TI_EXPECT(edmi_add_body(&ti_sys, EDMI_R(1.0), 0, p, 0), EDMI_ERR_NULL);
@@ -296,7 +334,7 @@ static void ti_add_links(void)
 {
     edmi_real nan = ti_nan(), inf = ti_inf();
     edmi_real x[3] = {EDMI_R(1.0), EDMI_R(1.0), EDMI_R(1.0)}, bx[3];
-    edmi_potential good = edmi_pot_harmonic(EDMI_R(1.0), EDMI_R(1.0));
+    edmi_potential good = ti_pot_in(edmi_pot_harmonic(EDMI_R(1.0), EDMI_R(1.0)));
     edmi_potential badpot[6];
     int i, nbp = 0, idx = -5;
 
@@ -307,7 +345,7 @@ static void ti_add_links(void)
     badpot[nbp++] = edmi_pot_inverse(EDMI_R(0.0));
     badpot[nbp++] = edmi_pot_user(0, 0, 0);
 
-    if (th_skip(ti_build_in(EDMI_LG), "ti_build(EDMI_LG)") || !CHECK(ti_build(EDMI_LG)))
+    if (ti_build_any_fails(EDMI_LG))
         return;
     /* NULL */
     CHECK_STATUS(edmi_add_pair(0, 0, 1, &good, 0), EDMI_ERR_NULL);
@@ -373,7 +411,7 @@ static void ti_step_input(void)
     edmi_invariants inv;
     int a, i, sa, sb;
 
-    if (th_skip(ti_build_in(EDMI_PT), "ti_build(EDMI_PT)") || !CHECK(ti_build(EDMI_PT)))
+    if (ti_build_any_fails(EDMI_PT))
         return;
     for (a = 0; a < 3; a++)
         for (i = 0; i < 3; i++) {
@@ -469,7 +507,7 @@ static void ti_step_input(void)
     ti_sys.link[1].pot.kind = (edmi_pot_kind)42;
     TI_STEP_INPUT(dt, EDMI_ERR_PARAM);
     ti_sys.link[1].pot = savepot;
-    ti_sys.link[1].pot = edmi_pot_harmonic(EDMI_R(50.0), EDMI_R(1.3));
+    ti_sys.link[1].pot = ti_pot_in(edmi_pot_harmonic(EDMI_R(50.0), EDMI_R(1.3)));
     /* Parameters corrupted by writing the struct directly. */
     saveprm = ti_sys.params;
     ti_sys.params.scheme = (edmi_scheme)9;
