@@ -54,8 +54,9 @@
 #>     change that moves results
 #>
 #> -- fuzzing --
-#> make fuzz            1.5 min  needs clang, llvm, libclang-rt-14-dev
-#>     the API fuzzer, both precisions side by side, FUZZ_TIME seconds each (default 60)
+#> make fuzz            2 min    needs clang, llvm, libclang-rt-14-dev
+#>     the API fuzzer, both precisions side by side, FUZZ_TIME seconds each (default 60), then
+#>     the coupling build (FEAT_coupling) for a quarter of that
 #> make fuzz-cov        10 s     needs clang, llvm
 #>     edmi.c's line and branch coverage by the fuzz corpora
 #>
@@ -273,8 +274,16 @@ $(BUILD)/fuzz-%/fuzz: $(FUZZ_DEPS)
 	$(CLANG) $(FUZZ_FLAGS) -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
 	    -DEDMI_REAL=$* $(FUZZ_SRC) -o $@ -lm
 
-fuzz: $(BUILD)/fuzz-double/fuzz $(BUILD)/fuzz-float/fuzz
-	bash tests/fuzz/run.sh $(FUZZ_TIME) $(BUILD) double float
+# The coupling build (FEAT_coupling) too, for a quarter of FUZZ_TIME after the full build:
+# its validators refuse what is out with EDMI_ERR_DISABLED, and every promise still holds.
+$(BUILD)/fuzz-coupling-%/fuzz: $(FUZZ_DEPS)
+	mkdir -p $(@D)
+	$(CLANG) $(FUZZ_FLAGS) $(FEAT_coupling) -O1 -fsanitize=fuzzer,address,undefined \
+	    -fno-sanitize-recover=all -DEDMI_REAL=$* $(FUZZ_SRC) -o $@ -lm
+
+fuzz: $(foreach r,double float,$(BUILD)/fuzz-$(r)/fuzz $(BUILD)/fuzz-coupling-$(r)/fuzz)
+	bash tests/run_all.sh 'bash tests/fuzz/run.sh $(FUZZ_TIME) $(BUILD) double float' \
+	    'bash tests/fuzz/run.sh $$(($(FUZZ_TIME) / 4)) $(BUILD) coupling-double coupling-float'
 
 $(BUILD)/replay-%/replay: $(FUZZ_DEPS) tests/fuzz/replay.c
 	mkdir -p $(@D)
