@@ -34,7 +34,7 @@
  *   Double-word arithmetic        sums and products to twice the precision (the guard's)
  *   Potentials                    everything about a potential: values and derivatives, the
  *                                 splits, divided differences, double-word values, the public
- *                                 constructors and evaluators (a new potential touches only this)
+ *                                 constructors and evaluators (a new potential's code is here)
  *   The paper's algorithmic forces  beta and Lambda per scheme, and their tangents
  *   The mass matrix               M's products and its Cholesky factor (EDMI_MAX_MASS_GAP > 0)
  *   Residual and consistent tangent  links, then each effect (dampers, ports, the field)
@@ -447,8 +447,9 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
  * 0..4 in closed form (no pow(), no numeric differentiation); the dispatch over kinds
  * (validity, parts, magnitude), the closed-form divided differences [V(d1)-V(d0)]/(d1-d0) LG
  * uses, V in double-word arithmetic for the guard, and the public constructors and
- * evaluators. A new potential touches only this section: its kind's case in edmi__pot_valid,
- * edmi__pot_parts, edmi__divdiff, edmi__pot_span and edmi__pot_dw, and its constructor.
+ * evaluators. A new potential touches this section: its kind's case, under #if
+ * EDMI_WITH_<NAME>, in edmi__pot_valid, edmi__pot_parts, edmi__divdiff, edmi__pot_span and
+ * edmi__pot_dw, and its constructor; besides, its bit in EDMI__POTS and its option in edmi.h.
  * ======================================================================================== */
 
 /* A harmonic spring of rest length 0, V = k/2 d^2 = k/2 |r|^2, is a quadratic function of
@@ -1012,7 +1013,8 @@ edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
  * which conserves L, J and C (lemma many-body-momentum). MP has beta = V'(d_m)/d_m; the
  * others have beta = 2 Lambda / (d_n + d_n+1) with a scalar Lambda(d_n+1) per scheme. Each
  * Lambda function returns Lambda and dLambda/dd_n+1 for the consistent tangent. A new scheme
- * adds its Lambda here (and its name to edmi_scheme and edmi__params_valid).
+ * adds its Lambda here (and its name to edmi_scheme and edmi__params_valid, its bit to
+ * EDMI__SCHEMES and its EDMI_WITH_<NAME> option to edmi.h).
  * ======================================================================================== */
 
 /* Everything a Lambda needs at the end of the step. */
