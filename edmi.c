@@ -2581,6 +2581,25 @@ static int edmi__guard_on(const edmi_params *p)
              (EDMI__HAS_SCHEME(EDMI_PT) && p->scheme == EDMI_PT)));
 }
 
+/* The tank a step may spend, T_n: sys->tank, or 0 with tank_cap 0, the per-step form, which
+ * neither spends a tank nor keeps one (whatever a caller stored in sys->tank before). */
+static edmi_real edmi__tank_n(const edmi_system *sys)
+{
+    return sys->params.tank_cap > EDMI__ZERO ? sys->tank : EDMI__ZERO;
+}
+
+/* The tank's capacity after a step whose end has H's terms of magnitude s: tank_cap eps s,
+ * EDMI_REAL_MAX where that overflows, and 0 with tank_cap 0 or the guard off, whatever s
+ * (an infinite s beyond the range, where 0 x inf would be NaN). */
+static edmi_real edmi__tank_cap(const edmi_system *sys, edmi_real s)
+{
+    edmi_real c;
+    if (!edmi__guard_on(&sys->params) || !(sys->params.tank_cap > EDMI__ZERO))
+        return EDMI__ZERO;
+    c = sys->params.tank_cap * EDMI_EPS * s;
+    return c < EDMI_REAL_MAX ? c : c >= EDMI_REAL_MAX ? EDMI_REAL_MAX : EDMI__ZERO;
+}
+
 /* ---- the change of H and its bound ------------------------------------------------------ */
 
 /* The energy bookkeeping of one step in double-word arithmetic. Every energy here is scale^2
@@ -2630,33 +2649,34 @@ static int edmi__link_still(const edmi_system *sys, const edmi_link_ws *w, const
  *     V(d1) - V(d0) = Lambda_pm dd - dd^4/48 (V_+''''(xi) - V_-''''(xi')) <= Lambda_pm dd,
  *     Lambda_pm = V'(d0 + dd/2) + dd^2/24 (V_+'''(d1) + V_-'''(d0)),   dd = d1 - d0,
  * for any split with V_+'''' >= 0 >= V_-'''' (the one PM's energy decay needs). Its slack is
- * PM's own dissipation, 0 for a quadratic V. dd is formed from the change of the link vector,
- * dd = (r1 - r0).(r1 + r0) / (d0 + d1), so that *err, the bound on the evaluation's error,
- * is relative to the change A = sum |r1 - r0| |r1 + r0| / (d0 + d1) >= |dd|, not to V: the
- * callback's own error (assumed 8 eps of |V'|), the rounding of the evaluation points (through
- * V''), of dd and of the products, each doubled for the neglected second-order terms.
- * *ds = d1^2 - d0^2 and *mag1, the magnitude of V's terms at d1, are returned too. */
+ * PM's own dissipation, 0 for a quadratic V. dd is formed as ds / (d0 + d1) from the change
+ * of the squared length ds = |r1|^2 - |r0|^2, evaluated in double-word from the link vectors
+ * formed exactly (edmi__dw_diff3), so that dd is known to a few eps of itself however the
+ * vector turns (a body crossing to its anchor's other side ends with r1 ~ -r0, where r1 + r0
+ * formed from the rounded vectors carries eps |r| of error, not eps |r1 + r0|). *err bounds
+ * the evaluation's error: relative to the change |dd| (the callback's own error, assumed
+ * 8 eps of |V'|; the rounding of the evaluation points through V''; of dd and of the
+ * products, each doubled for the neglected second-order terms), plus |Lambda_pm| times the
+ * double-word error of ds over d0 + d1. *ds = d1^2 - d0^2 and *mag1, the magnitude of V's
+ * terms at d1, are returned too. */
 static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
                                  const edmi_link *lk, const edmi_real (*q1)[3], edmi_real *ub,
                                  edmi_real *err, edmi_real *ds, edmi_real *mag1)
 {
     const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
-    const edmi_real *b1 = edmi__end_b(lk, w, q1);
-    edmi_real r1[3], dr[3], sr[3], d1, a, dd, pert, lam;
+    edmi__dw r0[3], r1[3], s0, s1;
+    edmi_real d1, den, dd, eds, pert, lam;
     edmi_pot_parts pa, p1;
     edmi_status st;
-    int i;
-    edmi__sub(q1[lk->a], b1, r1);
-    a = EDMI__ZERO;
-    for (i = 0; i < 3; i++) { /* r1 - r0 from the ends' own moves: relative to the change */
-        dr[i] = (q1[lk->a][i] - sys->body[lk->a].q[i]) - (b1[i] - b0[i]);
-        sr[i] = r1[i] + w->r0[i];
-        a += edmi__abs(dr[i]) * edmi__abs(sr[i]);
-    }
-    d1 = edmi__norm(r1);
-    *ds = edmi__dot(dr, sr);
-    dd = *ds / (w->d0 + d1);
-    a /= w->d0 + d1;
+    edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
+    edmi__dw_diff3(q1[lk->a], edmi__end_b(lk, w, q1), r1);
+    s0 = edmi__dw_sq3(r0);
+    s1 = edmi__dw_sq3(r1);
+    *ds = edmi__dw_real(edmi__dw_sub(s1, s0));
+    eds = EDMI__DW_ERR * (s0.hi + s1.hi) + EDMI__DW_TINY; /* ds's error, its rounding aside */
+    d1 = EDMI_SQRT(s1.hi);
+    den = w->d0 + d1;
+    dd = *ds / den;
     st = edmi__pot_parts(&lk->pot, w->d0 + EDMI__HALF * dd, &pa, 1);
     if (st == EDMI_OK)
         st = edmi__pot_parts(&lk->pot, d1, &p1, 1);
@@ -2665,10 +2685,10 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
     pert = dd * dd / EDMI_R(24.0) * (p1.sp[3] + w->d3m0);
     lam = pa.v[1] + pert;
     *ub = lam * dd;
-    *err = EDMI_EPS * a *
+    *err = EDMI_EPS * edmi__abs(dd) *
                (EDMI_R(16.0) * (edmi__abs(lam) + edmi__abs(pa.v[1]) + edmi__abs(pert)) +
-                EDMI_R(8.0) * edmi__abs(pa.v[2]) * (w->d0 + d1)) +
-           EDMI__DW_TINY;
+                EDMI_R(8.0) * edmi__abs(pa.v[2]) * den) +
+           EDMI_R(2.0) * edmi__abs(lam) * (eds / den) + EDMI__DW_TINY;
     *mag1 = edmi__pot_mag(&p1, d1);
     return edmi__finite(*ub) && edmi__finite(*err) ? EDMI_OK : EDMI_ERR_RANGE;
 }
@@ -2783,7 +2803,7 @@ static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *wor
     edmi_real gn = EDMI__HAS_FIELD(sys) ? edmi__norm(sys->g) : EDMI__ZERO;
     int a, i, j;
     *x = EDMI__ZERO;
-    *so = sys->tank + edmi__abs(res->work_ext) + edmi__abs(res->work_anchor);
+    *so = edmi__tank_n(sys) + edmi__abs(res->work_ext) + edmi__abs(res->work_anchor);
     for (a = 0; a < sys->n_bodies; a++) {
         for (i = 0; i < 3; i++)
             *x = edmi__max(*x, edmi__max(edmi__abs(work->p1[a][i]), edmi__abs(sys->body[a].p[i])));
@@ -3968,7 +3988,7 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     edmi__aim t;
     edmi_real after;
     int n, k[3], i;
-    t.tank = edmi__up2(bal, sys->tank);
+    t.tank = edmi__up2(bal, edmi__tank_n(sys));
     t.strict = t.tol = t.lift = EDMI__ZERO;
     if (!edmi__reaim(sys, work, bal, &t))
         return EDMI_ERR_PASSIVITY;
@@ -4142,10 +4162,11 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
 
 /* The fallback state (params.fallback, where a step or substep failed; and the guard's stop
  * at the bottom of the range): positions kept, momenta set to the frame's (edmi__guard_stop),
- * or to 0 if rounding those would not certify. Passive by construction: K does not grow, V
- * changes only where an anchor moved, and work_anchor is that change rounded upwards (the work
- * a hand does moving its end of a frozen link); with the guard on it fills the tank by what it
- * removes, up to the capacity. link_force is each link's force V'(d) r/d at the end of the
+ * or to 0 where those are not certified. Passive by construction: K does not grow, V changes
+ * only where an anchor moved, and work_anchor is that change rounded upwards (the work a hand
+ * does moving its end of a frozen link); with the guard on it fills the tank by what a
+ * certificate shows it removed, up to the capacity (with the momenta 0 and no certificate the
+ * tank keeps its level). link_force is each link's force V'(d) r/d at the end of the
  * step. Where no anchor moves nothing can fail: H changes by K's change alone, and where even
  * that cannot be evaluated (beyond the range) the momenta are set to 0, K_n+1 = 0 <= K_n. A
  * moved anchor that ends on its body or where its energy is beyond the range fails the call
@@ -4155,7 +4176,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
 {
     edmi__balance bal;
     edmi__aim t;
-    edmi_real wa, s1 = EDMI__ZERO, so = sys->tank, xh = EDMI__ZERO, after;
+    edmi_real wa, s1 = EDMI__ZERO, so = edmi__tank_n(sys), xh = EDMI__ZERO, after;
     int a, i, j, pass;
     edmi_status st;
     for (a = 0; a < sys->n_bodies; a++) {
@@ -4219,10 +4240,12 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
         if (st != EDMI_OK)
             return EDMI_ERR_RANGE; /* the moved anchors' energy beyond the range */
-        wa = edmi__dw_real(bal.dv) + edmi__abs(bal.dv.lo) + bal.err_v;
-        wa += edmi__abs(wa) * (EDMI_R(4.0) * EDMI_EPS);
-        res->work_anchor = edmi__down2(&bal, wa) + EDMI__REAL_MIN; /* rounded up, a subnormal
-                                                                      quotient too */
+        /* dv + |dv.lo| + err_v >= the exact change, its two sums rounded up: each errs by
+         * at most eps/2 of its terms (not of the sum, which can cancel), so 4 eps of them
+         * covers both, the division by scale^2 and a subnormal quotient (REAL_MIN) */
+        wa = bal.dv.hi + (edmi__abs(bal.dv.lo) + bal.err_v);
+        wa += (edmi__abs(bal.dv.hi) + edmi__abs(bal.dv.lo) + bal.err_v) * (EDMI_R(4.0) * EDMI_EPS);
+        res->work_anchor = edmi__down2(&bal, wa) + EDMI__REAL_MIN;
         if (!edmi__finite(res->work_anchor))
             return EDMI_ERR_RANGE;
     } else { /* nothing moved: every link term is exactly 0 (edmi__delta_v) */
@@ -4230,32 +4253,34 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         bal.err_v = bal.size_v = EDMI__ZERO;
     }
     bal.w = edmi__dw_up2(&bal, edmi__dw_of(res->work_anchor));
-    t.tank = edmi__guard_on(&sys->params) ? edmi__up2(&bal, sys->tank) : EDMI__ZERO;
-    for (pass = 0; pass < 2; pass++) {
+    t.tank = edmi__guard_on(&sys->params) ? edmi__up2(&bal, edmi__tank_n(sys)) : EDMI__ZERO;
+    res->tank = sys->tank;
+    for (pass = 0;; pass++) {
+        int evaluated;
         edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
-        if (edmi__excess(&bal, &t) && edmi__certified(&t))
+        evaluated = edmi__excess(&bal, &t);
+        res->dh = evaluated ? edmi__down2(&bal, edmi__dw_real(t.h)) : EDMI__ZERO;
+        if (evaluated && edmi__certified(&t)) {
+            res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
+            after = edmi__down2(&bal, t.after);
             break;
-        for (a = 0; a < sys->n_bodies; a++)
+        }
+        if (pass == 1) {
+            /* K_n+1 = 0 and still no certificate: its own margin where the tank is empty
+             * and nothing is left to remove (a second substep of a frozen body whose anchor
+             * moves), or K beyond the range. With the positions kept, H_n+1 - H_n = dV - K_n
+             * <= work_anchor (an upper bound of dV, above) exactly, by construction; the
+             * tank keeps its level */
+            res->certificate = EDMI_CERT_NONE;
+            after = edmi__tank_n(sys);
+            break;
+        }
+        for (a = 0; a < sys->n_bodies; a++) /* the frame's momenta not certified: K_n+1 = 0 */
             for (i = 0; i < 3; i++)
                 work->p1[a][i] = EDMI__ZERO;
     }
-    res->tank = sys->tank;
-    if (pass == 2) {
-        /* K_n+1 = 0 could not be evaluated either (beyond the range): with the positions and
-         * anchors kept, H_n+1 - H_n = -K_n <= 0 exactly, and the tank keeps its level */
-        if (sys->n_moving > 0)
-            return EDMI_ERR_RANGE;
-        res->dh = EDMI__ZERO;
-        res->certificate = EDMI_CERT_NONE;
-        after = sys->tank;
-    } else {
-        res->dh = edmi__down2(&bal, edmi__dw_real(t.h));
-        res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
-        after = edmi__down2(&bal, t.after);
-    }
     if (edmi__guard_on(&sys->params)) {
-        res->tank_cap = sys->params.tank_cap * EDMI_EPS * s1;
-        res->tank_cap = res->tank_cap < EDMI_REAL_MAX ? res->tank_cap : EDMI_REAL_MAX;
+        res->tank_cap = edmi__tank_cap(sys, s1);
         res->tank = after >= EDMI__REAL_MIN ? (after < res->tank_cap ? after : res->tank_cap)
                                             : EDMI__ZERO;
     }
@@ -4282,12 +4307,11 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
     st = edmi__plain_excess(sys, work, res, &pl);
     if (st != EDMI_OK)
         return st;
-    cap = guard ? sys->params.tank_cap * EDMI_EPS * pl.s1 : EDMI__ZERO;
-    res->tank_cap = cap < EDMI_REAL_MAX ? cap : EDMI_REAL_MAX;
+    cap = res->tank_cap = edmi__tank_cap(sys, pl.s1);
     res->dh = pl.e + (res->work_ext + res->work_anchor);
     if (guard && !exact && pl.ok && edmi__finite(pl.scheme) && edmi__finite(res->dh) &&
-        edmi__tank_after(sys->tank, pl.e, pl.m) >= cap &&
-        edmi__tank_after(sys->tank, pl.e, pl.m + edmi__plain_tiny(sys, work)) >= cap) {
+        edmi__tank_after(edmi__tank_n(sys), pl.e, pl.m) >= cap &&
+        edmi__tank_after(edmi__tank_n(sys), pl.e, pl.m + edmi__plain_tiny(sys, work)) >= cap) {
         res->certificate = EDMI_CERT_PLAIN;
         res->tank = res->tank_cap;
         res->diss_scheme = pl.scheme;
@@ -5158,6 +5182,8 @@ edmi_status edmi_set_tank(edmi_system *sys, edmi_real t)
         return EDMI_ERR_PARAM;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
+    if (t > EDMI__ZERO && !(sys->params.tank_cap > EDMI__ZERO))
+        return EDMI_ERR_PARAM; /* the per-step form keeps no tank */
     sys->tank = t;
     return EDMI_OK;
 }

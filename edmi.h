@@ -352,7 +352,8 @@ typedef struct edmi_params {
                               magnitude of H's terms at the step's end (res.tank_cap): over any
                               window of steps H rises by at most the work plus the tank's
                               level at its start. 256 by default; 0 is the per-step guarantee
-                              H_n+1 - H_n <= work (docs/energy-safe.md) */
+                              H_n+1 - H_n <= work: a step neither spends a tank (whatever
+                              sys.tank holds) nor keeps one, T_n+1 = 0 (docs/energy-safe.md) */
     int substep_levels;  /*!< k in 0..EDMI_MAX_SUBSTEP_LEVELS: a step that fails after its
                               input was accepted (Newton: singular, l_max reached, diverged;
                               the guard; a result beyond the range) is taken again as two
@@ -488,7 +489,8 @@ typedef struct edmi_system {
      *  H_n+1 - H_n <= work + T_n - T_n+1 exactly, and 0 <= T_n+1 <= res.tank_cap, so that
      *  T_n <= (the work supplied since T was 0) - (H_n - H at that time). 0 after edmi_init()
      *  and edmi_load_scene(); read it, save and restore it with the bodies, or empty it, with
-     *  edmi_set_tank(). Untouched by steps with the guard off. */
+     *  edmi_set_tank(). Untouched by steps with the guard off; with params.tank_cap 0 a step
+     *  neither spends it nor keeps one (T_n+1 = 0). */
     edmi_real tank;
     /** Output of the last successful step: the mean force link j applied on its second end
      *  (body b, or the anchor: the force a motor renders to a hand) over the step, its
@@ -566,8 +568,12 @@ typedef enum edmi_stop {
  *  dt df/dr_n+1, Q_b = |x_n+1| for an anchor, "cancellation" the potential's cancelling
  *  terms (the LG quotient's |V| / |d1 - d0|), and 16 EDMI_EPS times the smallest normal
  *  added to each (the subnormal grid). The bound holds however large the terms are: a step
- *  deep in a repulsive wall whose forces Newton cannot resolve fails with
- *  EDMI_ERR_NO_CONVERGENCE (or takes the fallback), never EDMI_OK. */
+ *  whose residual Newton leaves above it fails with EDMI_ERR_NO_CONVERGENCE (or takes the
+ *  fallback), never EDMI_OK. Its stiffness term 3 k Q is what moving a position by its unit in
+ *  the last place changes R_p by, the floor of any state on the grid: where that exceeds the
+ *  forces (a body a few units from a repulsive wall's centre, moving less than a unit in the
+ *  step), EDMI_OK means solved to the grid's resolution only, the positions within a unit of
+ *  the scheme's solution and |R_p| up to the size of dt |f| (docs/api.md, "Solver"). */
 #define EDMI_SOLVED 1024
 
 /** Bits of edmi_step_result.guard_action: what the passivity guard changed. */
@@ -588,7 +594,9 @@ typedef enum edmi_stop {
 
 /** How a step's energy change was certified (edmi_step_result.certificate). */
 typedef enum edmi_certificate {
-    EDMI_CERT_NONE = 0,   /*!< not evaluated (guard off, no energy_balance, or a failed step) */
+    EDMI_CERT_NONE = 0,   /*!< not evaluated (guard off, no energy_balance, or a failed step),
+                               or a fallback state passive by construction (momenta 0,
+                               positions kept, work_anchor an upper bound of V's change) */
     EDMI_CERT_PLAIN,      /*!< working precision with an a-priori error bound: the step
                                dissipated more than the bound and the tank stays full */
     EDMI_CERT_DOUBLE_WORD, /*!< double-word arithmetic, error ~ EDMI_EPS^2 of H's terms */
@@ -723,8 +731,9 @@ edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_a
 /** \brief Set the energy tank T (edmi_system.tank): 0 empties it; a value read from sys.tank
  *  restores it with a saved state. The guard lets a later step spend what the tank holds
  *  (at most its capacity after that step).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE, EDMI_ERR_PARAM (t < 0),
- *          EDMI_ERR_CAPACITY (a count in sys out of range); on any error sys is unchanged */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE, EDMI_ERR_PARAM (t < 0, or t > 0 with
+ *          params.tank_cap 0: the per-step form keeps no tank), EDMI_ERR_CAPACITY (a count in
+ *          sys out of range); on any error sys is unchanged */
 edmi_status edmi_set_tank(edmi_system *sys, edmi_real t);
 
 /** \brief Move the anchor of link `link` during the next step: it goes from its current

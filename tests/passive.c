@@ -102,22 +102,26 @@ static tp_q tp_sqrtq(tp_q x)
  * |x| + 4 eps (d + rb), x as computed: where the rounding of d hides all of x (x computed 0,
  * the true one ~1e-34 at d = 1 in binary128, ~1e-20 in x87 long double: V = k/2 x^2 seen as
  * 0), V's error is second order in it, a (4 eps d)^2, and M still bounds it. Only + - * / (no libm): LJ's t^6 by products.
- * 0 for a user potential (not checkable here). */
+ * A user potential is evaluated as the built-in one its callback computes (tp_user_builtin:
+ * this file's callbacks and one a test registers); 0 for any other. */
+static int tp_user_builtin(const edmi_potential *p, edmi_potential *b);
+
 static int tp_pot(const edmi_potential *p, tp_q s, tp_q d, tp_q *v, tp_q *mag)
 {
     tp_q a = (tp_q)p->a, b = (tp_q)p->b, x, t, xe;
+    edmi_potential bp;
     switch (p->kind) {
-    case EDMI_POT_HARMONIC: /* V' d = a |x| d */
+    case EDMI_POT_HARMONIC: /* V' d = a |x| d (|a|: a user potential's k may be < 0) */
         x = d - b;
-        xe = tp_absq(x) + (tp_q)4.0 * TP_Q_EPS * (d + b);
+        xe = tp_absq(x) + (tp_q)4.0 * TP_Q_EPS * (d + tp_absq(b));
         *v = (tp_q)0.5 * a * x * x;
-        *mag = (tp_q)4.0 * a * xe * (d + b) + (tp_q)4.0 * *v;
+        *mag = (tp_q)4.0 * tp_absq(a) * xe * (d + tp_absq(b)) + (tp_q)4.0 * tp_absq(*v);
         return 1;
     case EDMI_POT_QUARTIC: /* V' d = a |x| s */
         x = s - b * b;
         xe = tp_absq(x) + (tp_q)8.0 * TP_Q_EPS * (s + b * b);
         *v = (tp_q)0.25 * a * x * x;
-        *mag = (tp_q)4.0 * a * xe * (s + b * b) + (tp_q)4.0 * *v;
+        *mag = (tp_q)4.0 * tp_absq(a) * xe * (s + b * b) + (tp_q)4.0 * tp_absq(*v);
         return 1;
     case EDMI_POT_NEO_HOOKE: /* V' d = a/3 |x| (d^2 + d b + b^2) / d */
         if (!(d > (tp_q)0.0))
@@ -141,7 +145,8 @@ static int tp_pot(const edmi_potential *p, tp_q s, tp_q d, tp_q *v, tp_q *mag)
         *v = -a / d;
         *mag = (tp_q)8.0 * tp_absq(a) / d;
         return 1;
-    case EDMI_POT_USER:
+    case EDMI_POT_USER: /* the built-in whose V its callback gives (tp_user_builtin) */
+        return tp_user_builtin(p, &bp) && bp.kind != EDMI_POT_USER && tp_pot(&bp, s, d, v, mag);
     default:
         return 0;
     }
@@ -384,6 +389,58 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
     out->unresolved = !(diff > q.err) && !(diff < -q.err);
     out->rose = q.dh > q.err;
     return 1;
+}
+
+/* A run of steps under the window check: A_n = H_n - sum_{k<n} W_k (H_n = H_n-1 + dh, not a
+ * fresh H: its rounding is in the deltas' err, accumulated in a_err), the smallest A_m + T_m
+ * and A_m so far, and the largest rise of A over its lowest (in units of H's scale). */
+typedef struct tp_win {
+    tp_q h_last, sum_w, a_min, a_low, a_err, max_window;
+} tp_win;
+
+static void tp_win_start(tp_win *w, tp_q h, tp_q tank)
+{
+    w->h_last = h;
+    w->sum_w = w->a_err = w->max_window = (tp_q)0.0;
+    w->a_min = h + tank;
+    w->a_low = h;
+}
+
+/* Add a step (its delta d, the tank after it); 1 if every window ending there holds. */
+static int tp_win_add(tp_win *w, const tp_qdelta *d, const edmi_step_result *res, tp_q tank,
+                      tp_q scale)
+{
+    tp_q a_n;
+    int ok;
+    w->sum_w += (tp_q)res->work_ext + (tp_q)res->work_anchor; /* d->w holds the tank's too */
+    a_n = w->h_last + d->dh - w->sum_w;
+    w->a_err += d->err + TP_Q_EPS * (tp_absq(w->sum_w) + tp_absq(a_n));
+    if ((a_n - w->a_low) / scale > w->max_window)
+        w->max_window = (a_n - w->a_low) / scale;
+    ok = !(a_n - w->a_min > w->a_err);
+    w->h_last += d->dh;
+    if (a_n + tank < w->a_min)
+        w->a_min = a_n + tank;
+    if (a_n < w->a_low)
+        w->a_low = a_n;
+    return ok;
+}
+
+static tp_win tp_window;
+
+void tp_window_start(const edmi_system *s)
+{
+    tp_win_start(&tp_window, (tp_q)0.0, (tp_q)s->tank); /* A relative to H at the start */
+}
+
+int tp_window_step(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res)
+{
+    tp_qdelta d;
+    if (!tp_delta_q(s0, s1, res, &d)) {
+        tp_window_start(s1);
+        return -1;
+    }
+    return tp_win_add(&tp_window, &d, res, (tp_q)s1->tank, (tp_q)1.0);
 }
 
 /* H of a stored state in tp_q; 0 if a coupled M is not provably definite (not evaluated). */
@@ -660,8 +717,8 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
     /* in tp_q: H0 and its scale, the largest (dH - W) / scale, the works and H accumulated
      * (H_n = H_n-1 + dh), and over the steps m so far: min of A_m + T_m and of A_m,
      * A_m = H_m - sum_{k<m} W_k, and the accumulated error of A */
-    tp_q h0, scale, worst = (tp_q)-1.0, sum_w = (tp_q)0.0, h_last;
-    tp_q a_min, a_low, a_err = (tp_q)0.0, max_window = (tp_q)0.0, max_cap = (tp_q)0.0;
+    tp_q h0, scale, worst = (tp_q)-1.0, h_last, max_cap = (tp_q)0.0;
+    tp_win win;
     st->steps = st->violations = st->rises = st->uncertain = 0;
     st->fallbacks = st->guarded = st->iterations = 0;
     st->window_violations = st->tank_violations = st->window_beyond_cap = 0;
@@ -672,10 +729,8 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
         return;
     if (!tp_hq(&tp_sys, &h0))
         h0 = (tp_q)LDBL_MAX;
-    h_last = h0;
     scale = tp_absq(h0) > (tp_q)0.0 ? tp_absq(h0) : (tp_q)1.0;
-    a_min = h0 + (tp_q)tp_sys.tank;
-    a_low = h0;
+    tp_win_start(&win, h0, (tp_q)tp_sys.tank);
     tp_j(&tp_sys, j0);
     jn = tp_sqrtl(j0[0] * j0[0] + j0[1] * j0[1] + j0[2] * j0[2]);
     for (k = 0; k < n; k++) {
@@ -701,27 +756,11 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
         st->rises += d.dh > d.err;
         if (diff / scale > worst)
             worst = diff / scale;
-        /* the works alone (d.w holds the tank's part too) */
-        sum_w += (tp_q)res.work_ext + (tp_q)res.work_anchor;
         st->tank_violations += !(tp_sys.tank >= 0 && tp_sys.tank <= res.tank_cap &&
                                  tp_sys.tank == res.tank);
         if ((tp_q)res.tank_cap / scale > max_cap)
             max_cap = (tp_q)res.tank_cap / scale;
-        {
-            /* windows: A_n = H_n - sum_{k<n} W_k must stay <= A_m + T_m for every m < n. A_n
-             * from this step's change (H_n = H_n-1 + dh, not a fresh H: its rounding is in
-             * d.err, accumulated into a_err) */
-            tp_q a_n = h_last + d.dh - sum_w;
-            a_err += d.err + TP_Q_EPS * (tp_absq(sum_w) + tp_absq(a_n));
-            if ((a_n - a_low) / scale > max_window)
-                max_window = (a_n - a_low) / scale;
-            st->window_violations += a_n - a_min > a_err;
-            h_last += d.dh;
-            if (a_n + (tp_q)tp_sys.tank < a_min)
-                a_min = a_n + (tp_q)tp_sys.tank;
-            if (a_n < a_low)
-                a_low = a_n;
-        }
+        st->window_violations += !tp_win_add(&win, &d, &res, (tp_q)tp_sys.tank, scale);
         if (track_j && (k & 63) == 0) {
             long double j[3], dj;
             tp_j(&tp_sys, j);
@@ -731,17 +770,18 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
                 st->max_dj = dj;
         }
     }
+    h_last = win.h_last;
     if (st->status == EDMI_OK) {
         if (!tp_hq(&tp_sys, &h_last))
             h_last = (tp_q)LDBL_MAX;
-        st->window_err = (long double)(a_err / scale);
-        st->window_beyond_cap = max_window > max_cap + a_err / scale;
+        st->window_err = (long double)(win.a_err / scale);
+        st->window_beyond_cap = win.max_window > max_cap + win.a_err / scale;
     }
     st->h0 = (long double)h0;
     st->h_last = (long double)h_last;
     st->worst = (long double)worst;
-    st->sum_w = (long double)sum_w;
-    st->max_window = (long double)max_window;
+    st->sum_w = (long double)win.sum_w;
+    st->max_window = (long double)win.max_window;
     st->max_cap = (long double)max_cap;
 }
 
@@ -781,6 +821,35 @@ int tp_user_harmonic_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, ed
     *dd = EDMI_R(0.5) * u->k * ((d1 - u->r0) + (d0 - u->r0));
     *dd_d1 = EDMI_R(0.5) * u->k;
     return 0;
+}
+
+int tp_user_builtin_fn(void *ctx, edmi_real r, edmi_pot_parts *out)
+{
+    return edmi_pot_eval((const edmi_potential *)ctx, r, out) != EDMI_OK;
+}
+
+int tp_user_builtin_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1)
+{
+    return edmi_pot_divdiff((const edmi_potential *)ctx, d0, d1, dd, dd_d1) != EDMI_OK;
+}
+
+static tp_user_map tp_user_extra;
+
+void tp_user_register(tp_user_map map) { tp_user_extra = map; }
+
+/* The built-in potential whose V the user potential p's callback computes: 1 and *b, or 0. */
+static int tp_user_builtin(const edmi_potential *p, edmi_potential *b)
+{
+    if (p->fn == tp_user_harmonic_fn) {
+        const tp_user_harmonic *u = (const tp_user_harmonic *)p->ctx;
+        *b = edmi_pot_harmonic(u->k, u->r0);
+        return 1;
+    }
+    if (p->fn == tp_user_builtin_fn) {
+        *b = *(const edmi_potential *)p->ctx;
+        return 1;
+    }
+    return tp_user_extra != 0 && tp_user_extra(p, b);
 }
 
 /* TP_REST_USER's potential: the built-in edmi_pot_harmonic(50, 1) written as a user one */
@@ -927,19 +996,11 @@ static int tp_homogeneous(const edmi_potential *p)
     return p->kind == EDMI_POT_HARMONIC && p->b == 0;
 }
 
-/* V of a link that is not homogeneous, unscaled: as tp_pot, and tp_user_harmonic_fn's V */
+/* V of a link that is not homogeneous, unscaled (tp_pot) */
 static int tp_rest_pot(const edmi_potential *p, const tp_q r[3], tp_q *v, tp_q *mag)
 {
-    tp_q s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2], d = tp_sqrtq(s);
-    if (p->kind == EDMI_POT_USER) {
-        const tp_user_harmonic *u = (const tp_user_harmonic *)p->ctx;
-        edmi_potential h;
-        if (p->fn != tp_user_harmonic_fn)
-            return 0;
-        h = edmi_pot_harmonic(u->k, u->r0);
-        return tp_pot(&h, s, d, v, mag);
-    }
-    return tp_pot(p, s, d, v, mag);
+    tp_q s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    return tp_pot(p, s, tp_sqrtq(s), v, mag);
 }
 
 int tp_rest_delta(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,

@@ -18,8 +18,9 @@ long double tp_q_eps(void);
  * what the energy tank gave (edmi_system.tank before and after): the guard's inequality is
  * dh <= w. The values are reported in long double, each rounded once from tp_q; the
  * inequality is decided in tp_q before that rounding (broken, unresolved): compare those,
- * not dh - w with err, which loses what binary128 resolved. Built-in potentials other than
- * user ones. Returns 0 if a term cannot be evaluated. */
+ * not dh - w with err, which loses what binary128 resolved. A user potential is evaluated
+ * as the built-in one its callback computes (tp_user_register). Returns 0 if a term cannot
+ * be evaluated. */
 typedef struct tp_delta {
     long double dh;   /* H(s1) - H(s0) */
     long double w;    /* res.work_ext + res.work_anchor + s0->tank - s1->tank */
@@ -35,6 +36,17 @@ typedef struct tp_delta {
 
 int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
                tp_delta *d);
+
+/* The tank's statement on every window of consecutive steps, H_n - H_m <= the works in
+ * between + T_m for every m < n, checked as a run goes (in tp_q: A_n = H_n - sum of the works
+ * before n, from each step's tp_delta_h change, must stay below min over m of A_m + T_m, the
+ * accumulated rounding of A allowed). tp_window_start begins a run at state s (after a change
+ * no step made: a build call, a write into the system); tp_window_step adds the step from s0
+ * to s1 and returns 1 if every window ending at s1 holds, 0 if one is broken beyond the
+ * check's resolution, -1 if the step cannot be evaluated (then it starts a new run at s1).
+ * One run at a time. */
+void tp_window_start(const edmi_system *s);
+int tp_window_step(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res);
 
 /* H of a stored state, evaluated in tp_q and rounded to long double (for drifts relative to
  * H0); LDBL_MAX for a coupled M that is not positive definite to long double's resolution
@@ -156,6 +168,20 @@ typedef struct tp_user_harmonic {
 } tp_user_harmonic;
 int tp_user_harmonic_fn(void *ctx, edmi_real r, edmi_pot_parts *out);
 int tp_user_harmonic_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1);
+
+/* A built-in potential written as a user one: its callbacks call edmi_pot_eval and
+ * edmi_pot_divdiff on the edmi_potential that ctx points to (a potential whose V' the
+ * built-in gives to a few units in the last place, as a user potential must: the harmonic
+ * and inverse ones everywhere, the others away from V' = 0). */
+int tp_user_builtin_fn(void *ctx, edmi_real r, edmi_pot_parts *out);
+int tp_user_builtin_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi_real *dd_d1);
+
+/* The check (tp_delta_h, tp_h, tp_window_step, tp_rest_delta) evaluates a user potential as
+ * the built-in one its callback computes: tp_user_harmonic_fn and tp_user_builtin_fn here,
+ * and a test's own callbacks through a map it registers (1 and the built-in in *b, or 0 for
+ * a callback it does not know; such a link makes the check return 0). */
+typedef int (*tp_user_map)(const edmi_potential *user, edmi_potential *b);
+void tp_user_register(tp_user_map map);
 
 /* Build scene s with parameters prm (fallback as prm has it); damper: a damper of c 5 on
  * every link. user_dd: TP_REST_USER's potential with its divided difference (else without:

@@ -13,7 +13,8 @@
  *     edmi_step index out of bounds.
  *  6. The guard certified steps whose energies underflow (p^2 of a tiny momentum, a 0/0 in
  *     an error bound read as a margin of 0), and results beyond the range came back as OK
- *     with infinities (a potential's derivatives, an invariant, a tangent block). */
+ *     with infinities (a potential's derivatives, an invariant, a tangent block).
+ * And what an outside fuzzer of the energy promise found (issue 30; items 7 to 9 below). */
 #include <string.h>
 
 #include "harness.h"
@@ -364,6 +365,168 @@ static void tf_range(void)
     CHECK(dd == EDMI_R(-1.0) && dd1 == EDMI_R(-1.0));
 }
 
+/* 7. A user potential let the guard credit the tank with more than H fell: its V change,
+ *    bounded from the derivatives (the perturbed mid-point quadrature), took d1 - d0 from
+ *    r1 + r0 formed from the rounded link vectors, which errs by eps |r| where a body crosses
+ *    to its anchor's other side (r1 ~ -r0), not by eps |r1 + r0|. The outside test's case: a
+ *    zero-rest-length user spring V = k/2 r^2 (tp_user_harmonic_fn, its callback exact to an
+ *    ulp) of k 0x1.879cea18p+16 from an anchor at (0, 0x1.40014p+2, 0) to a body of m
+ *    0x1.fffe333333334p-3 at 1e-7 (1, 1, 1), p (-0x1.8ca3d70a3d70ap-6, 0.25, 1e-7), PM with
+ *    the default guard: at dt 0x1.d8756ap+7 the body flips to the anchor's other side every
+ *    step (before: 1500 of 3000 steps broke H_n+1 - H_n <= T_n - T_n+1 in both precisions,
+ *    by up to 1.9e-10 in double), and at dt 0.01 (with the fallback; 9 of 3000 broke it in
+ *    double). Every step: EDMI_OK, the inequality on the stored states in tp_q, the window
+ *    form H_n - H_m <= T_m (tp_window_step), the tank within its capacity. */
+#define TF_USER_STEPS 3000L
+
+static void tf_user_flip(void)
+{
+    static tp_user_harmonic k = {EDMI_R(0.0), EDMI_R(0.0)};
+    const edmi_real q[3] = {EDMI_R(1e-7), EDMI_R(1e-7), EDMI_R(1e-7)};
+    const edmi_real p[3] = {(edmi_real)-0x1.8ca3d70a3d70ap-6, EDMI_R(0.25), EDMI_R(1e-7)};
+    const edmi_real x[3] = {EDMI_R(0.0), (edmi_real)0x1.40014p+2, EDMI_R(0.0)};
+    const edmi_real dts[2] = {(edmi_real)0x1.d8756ap+7, EDMI_R(0.01)};
+    edmi_params prm = edmi_default_params();
+    edmi_potential pot = edmi_pot_user(tp_user_harmonic_fn, tp_user_harmonic_dd, &k);
+    int c;
+    k.k = (edmi_real)0x1.879cea18p+16;
+    prm.scheme = EDMI_PM;
+    TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_USER));
+    for (c = 0; c < 2; c++) {
+        long n, ok = 0, broken = 0, windows = 0, tank = 0, fallbacks = 0;
+        prm.fallback = c;
+        CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+              edmi_add_body(&tf_sys, (edmi_real)0x1.fffe333333334p-3, q, p, 0) == EDMI_OK &&
+              edmi_add_anchor(&tf_sys, 0, x, &pot, 0) == EDMI_OK);
+        tp_window_start(&tf_sys);
+        for (n = 0; n < TF_USER_STEPS; n++) {
+            edmi_step_result res;
+            tp_delta d;
+            memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+            if (edmi_step(&tf_sys, &tf_work, dts[c], &res) != EDMI_OK)
+                break;
+            ok++;
+            fallbacks += res.stop == EDMI_STOP_FALLBACK;
+            broken += !tp_delta_h(&tf_snap, &tf_sys, &res, &d) || d.broken;
+            windows += tp_window_step(&tf_snap, &tf_sys, &res) != 1;
+            tank += !(tf_sys.tank >= EDMI_R(0.0) && tf_sys.tank <= res.tank_cap);
+        }
+        CHECK(ok == TF_USER_STEPS);
+        CHECK(broken == 0);
+        CHECK(windows == 0);
+        CHECK(tank == 0);
+        th_puts(c ? "  user spring crossing its anchor, dt 0.01 with the fallback: "
+                  : "  user spring crossing its anchor every step: ");
+        th_put_int(ok);
+        th_puts(" steps OK, inequality broken on ");
+        th_put_int(broken);
+        th_puts(", windows on ");
+        th_put_int(windows);
+        th_puts(", fallbacks ");
+        th_put_int(fallbacks);
+        th_newline();
+    }
+}
+
+/* 8. The fallback's contract broke with substeps (float): a body on a stiff harmonic link
+ *    (k 0x1.8c31c6p+27, r0 0x1.58e0d6p-3) to an anchor at the origin that moves to
+ *    (0, 0, -0x1.1c458ap-36) in the step, dt 0x1.bef82ep-4, PM with the fallback: with
+ *    substep_levels 0 the step fell back (EDMI_OK), with 1 to 3 it returned EDMI_ERR_RANGE.
+ *    The first substep froze the body; the second, its momenta already 0 and the tank empty,
+ *    found the frozen state's anchor work (an upper bound of the V change) no longer above
+ *    the certificate's own margin, and failed where no failure is allowed. Now a frozen state
+ *    that is not certified sets the momenta to 0 and stands by construction: H_n+1 - H_n =
+ *    dV - K_n <= work_anchor exactly. Every level: EDMI_OK, every substep a fallback, the
+ *    inequality on the stored states. */
+static void tf_substep_fallback(void)
+{
+    const edmi_real q[3] = {(edmi_real)-0x1.3bb83ep-23, (edmi_real)-0x1.b5dc9ep-22,
+                            (edmi_real)0x1.f1bff2p-25};
+    const edmi_real p[3] = {(edmi_real)0x1.e81636p-24, (edmi_real)-0x1.29fa2ap-22,
+                            (edmi_real)0x1.399006p-25};
+    const edmi_real x1[3] = {EDMI_R(0.0), EDMI_R(0.0), (edmi_real)-0x1.1c458ap-36};
+    edmi_potential pot = edmi_pot_harmonic((edmi_real)0x1.8c31c6p+27, (edmi_real)0x1.58e0d6p-3);
+    edmi_params prm = edmi_default_params();
+    int k;
+    prm.scheme = EDMI_PM;
+    prm.fallback = 1;
+    TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_HARMONIC));
+    for (k = 0; k <= 3; k++) {
+        edmi_step_result res;
+        tp_delta d;
+        prm.substep_levels = k;
+        CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
+              edmi_add_body(&tf_sys, (edmi_real)0x1.6c7028p-11, q, p, 0) == EDMI_OK &&
+              edmi_add_anchor(&tf_sys, 0, tf_zero3, &pot, 0) == EDMI_OK &&
+              edmi_move_anchor(&tf_sys, 0, x1) == EDMI_OK);
+        memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+        CHECK_STATUS(edmi_step(&tf_sys, &tf_work, (edmi_real)0x1.bef82ep-4, &res), EDMI_OK);
+        CHECK(tp_delta_h(&tf_snap, &tf_sys, &res, &d) && !d.broken);
+        CHECK(tf_sys.link[0].anchor[2] == x1[2] && tf_sys.n_moving == 0);
+        CHECK(tf_sys.tank >= EDMI_R(0.0) && tf_sys.tank <= res.tank_cap);
+        if (res.stop == EDMI_STOP_FALLBACK) /* float: every substep falls back */
+            CHECK(res.fallbacks >= 1 && res.cause != EDMI_OK);
+    }
+}
+
+/* 9. tank_cap = 0 (the per-step form: no tank) left a tank where the magnitude of H's terms
+ *    overflowed (0 x inf is NaN, whose capacity read as EDMI_REAL_MAX), and edmi_set_tank
+ *    accepted a tank the step then spent. A body at (0, 0, 2) on a harmonic link in a field
+ *    of (MAX/2, MAX/2, 0) (|m g| |q| beyond the range), GE with 3 levels of substeps and the
+ *    fallback, tank_cap 0: every step keeps the tank and its capacity 0 (before: a tank of
+ *    K_n, 0.125, and a capacity of MAX). edmi_set_tank of 5e-7 with tank_cap 0 is
+ *    EDMI_ERR_PARAM, the system unchanged; a tank written into sys->tank is not spent (the
+ *    step stores T = 0 and H_n+1 - H_n <= W on its own: before, MP with the guard took its
+ *    rounding rises from it). */
+static void tf_tank_cap_zero(void)
+{
+    const edmi_real q[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(2.0)};
+    const edmi_real p[3] = {EDMI_R(0.0), EDMI_R(0.5), EDMI_R(0.0)};
+    const edmi_real g[3] = {EDMI_REAL_MAX / EDMI_R(2.0), EDMI_REAL_MAX / EDMI_R(2.0), EDMI_R(0.0)};
+    edmi_potential pot = edmi_pot_harmonic(EDMI_R(10.0), EDMI_R(0.5));
+    edmi_params prm = edmi_default_params();
+    edmi_step_result res;
+    tp_delta d;
+    int n, ok, broken;
+    prm.scheme = EDMI_GE;
+    prm.fallback = 1;
+    prm.substep_levels = 3;
+    prm.tank_cap = EDMI_R(0.0);
+    TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_HARMONIC));
+    CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK && edmi_add_body(&tf_sys, 1, q, p, 0) == EDMI_OK &&
+          edmi_add_anchor(&tf_sys, 0, tf_zero3, &pot, 0) == EDMI_OK);
+    memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+    CHECK_STATUS(edmi_set_tank(&tf_sys, EDMI_R(5e-7)), EDMI_ERR_PARAM);
+    CHECK(TF_UNCHANGED());
+    CHECK_STATUS(edmi_set_tank(&tf_sys, EDMI_R(0.0)), EDMI_OK);
+    if (!th_skip(EDMI_WITH_FIELD, "EDMI_WITH_FIELD")) {
+        CHECK_STATUS(edmi_set_field(&tf_sys, g), EDMI_OK);
+        for (n = 0; n < 3; n++) {
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.01), &res), EDMI_OK);
+            CHECK(tf_sys.tank == EDMI_R(0.0) && res.tank == EDMI_R(0.0) &&
+                  res.tank_cap == EDMI_R(0.0));
+        }
+    }
+    /* a tank written directly, with tank_cap 0: not spent (MP with the guard on, whose
+     * rounding raises H on about half of its steps: the tank would take those) */
+    prm.scheme = EDMI_MP;
+    prm.guard = EDMI_GUARD_ON;
+    prm.substep_levels = 0;
+    TH_NEEDS(th_has_params(&prm));
+    CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK && edmi_add_body(&tf_sys, 1, q, p, 0) == EDMI_OK &&
+          edmi_add_anchor(&tf_sys, 0, tf_zero3, &pot, 0) == EDMI_OK);
+    for (n = 0, ok = broken = 0; n < 200; n++) {
+        tf_sys.tank = EDMI_R(1e-3);
+        memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+        tf_snap.tank = EDMI_R(0.0); /* the inequality without it: dH <= W */
+        ok += edmi_step(&tf_sys, &tf_work, EDMI_R(0.01), &res) == EDMI_OK &&
+              tf_sys.tank == EDMI_R(0.0);
+        broken += !tp_delta_h(&tf_snap, &tf_sys, &res, &d) || d.broken;
+    }
+    CHECK(ok == 200);
+    CHECK(broken == 0);
+}
+
 void suite_fuzz_findings(void)
 {
     th_suite("fuzz findings: solved or a status, and nothing changed");
@@ -373,4 +536,7 @@ void suite_fuzz_findings(void)
     tf_mp_end();
     tf_counts();
     tf_range();
+    tf_user_flip();
+    tf_substep_fallback();
+    tf_tank_cap_zero();
 }

@@ -5,7 +5,8 @@
  * precisions with bounds built from EDMI_EPS and the Newton residual (scenes.c). And the cases
  * of issue 21 where promises broke: (e) EDMI_OK deep in a repulsive wall with nothing solved,
  * substeps and the fallback there; (f) a user potential the guard failed on for ever; (g) a
- * fallback that froze the body for good (l_max = 1). */
+ * fallback that froze the body for good (l_max = 1). And (h) EDMI_OK at the grid's floor: a
+ * step whose position change is below the unit of its coordinates, next to a stiff wall. */
 #include "harness.h"
 #include "suites.h"
 #include "scenes.h"
@@ -573,6 +574,95 @@ static void hard_no_freeze(void)
     th_note_real("  l_max 1 under a flipping port, 2000 fallbacks: largest excursion", span);
 }
 
+/* ---- (h) OK at the grid's floor ---------------------------------------------------------------
+ * A body one unit in the last place of its position from a Lennard-Jones anchor (sigma 2 u,
+ * u = the unit of the coordinate 1.5 2^16 in double, 1.5 2^10 in float), at rest, MP, dt 1:
+ * its mass m = dt^2 V''(u) / 20 makes the step stiff (dt^2 V'' / 2m = 10) and moves it by
+ * less than a unit (dt^2 |V'| / 2m = 0.77 u before the force falls off). The scheme's exact
+ * solution (found here by bisection in long double) moves it by ~0.2 u: the stored position
+ * must be within a unit of it. No state on the grid solves the equations better than moving a
+ * position by one unit changes them, dt V'' u, many times the force itself: Newton's
+ * residual |R_p| is then a sizeable fraction of dt |V'| and still within the bound edmi.h
+ * states (EDMI_SOLVED), whose stiffness term 3 k Q is that floor (found by an outside fuzzer
+ * as "OK means solved is vacuous deep in a wall": it is the grid's floor, which edmi.h now
+ * says). Checked: EDMI_OK, q1 within u of the exact solution, tp_solved <= 2 EDMI_SOLVED,
+ * and a unit of q either way changes R_p by more than |R_p|. */
+static long double hard_absl(long double x) { return x < 0.0L ? -x : x; }
+
+static long double hard_lj_d1(long double r, long double sigma)
+{
+    long double t = sigma / r, t6 = t * t * t * t * t * t;
+    return -4.0L / r * (12.0L * t6 * t6 - 6.0L * t6); /* V'(r), eps = 1 */
+}
+
+static void hard_grid_floor(void)
+{
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+    const edmi_real x0 = EDMI_R(98304.0); /* 1.5 2^16 */
+#else
+    const edmi_real x0 = EDMI_R(1536.0); /* 1.5 2^10 */
+#endif
+    const edmi_real u = x0 / EDMI_R(1.5) * EDMI_EPS, dt = EDMI_R(1.0);
+    const long double sigma = 2.0L * (long double)u;
+    const long double k = 4.0L / ((long double)u * u) * (156.0L * 4096.0L - 42.0L * 64.0L);
+    edmi_real q[3] = {x0, EDMI_R(0.0), EDMI_R(0.0)}, a[3] = {x0 - u, EDMI_R(0.0), EDMI_R(0.0)};
+    edmi_real p[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
+    edmi_real q1[1][3], p1[1][3], rq[1][3], rp[1][3], rq2[1][3], rp2[1][3];
+    edmi_real m = (edmi_real)(k / 20.0L);
+    edmi_potential lj = edmi_pot_lj(EDMI_R(1.0), (edmi_real)sigma);
+    edmi_params prm = edmi_default_params();
+    edmi_system *sys = &ts_sys[0];
+    edmi_step_result res;
+    edmi_status rs;
+    long double lo = 0.0L, hi = (long double)u, h = (long double)dt / (2.0L * (long double)m);
+    long double rp_n, x, f = (long double)dt * hard_lj_d1((long double)u, sigma);
+    int i, side, body, which;
+    prm.scheme = EDMI_MP;
+    TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_LJ));
+    for (i = 0; i < 200; i++) { /* x/h + dt V'(u + x/2) = 0: the exact displacement */
+        long double mid = 0.5L * (lo + hi);
+        if (mid / h + (long double)dt * hard_lj_d1((long double)u + 0.5L * mid, sigma) > 0.0L)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    x = 0.5L * (lo + hi);
+    CHECK(edmi_init(sys, &prm) == EDMI_OK && edmi_add_body(sys, m, q, p, 0) == EDMI_OK &&
+          edmi_add_anchor(sys, 0, a, &lj, 0) == EDMI_OK);
+    hard_s0 = *sys;
+    CHECK_STATUS(edmi_step(sys, &ts_work, dt, &res), EDMI_OK);
+    CHECK(res.stop != EDMI_STOP_FALLBACK);
+    CHECK(hard_absl((long double)sys->body[0].q[0] - ((long double)x0 + x)) <= (long double)u);
+    CHECK(tp_solved(&hard_s0, sys, dt, &ts_work, &rs, &body, &which) <=
+          2.0L * (long double)EDMI_SOLVED);
+    CHECK_STATUS(rs, EDMI_OK);
+    for (i = 0; i < 3; i++) {
+        q1[0][i] = sys->body[0].q[i];
+        p1[0][i] = sys->body[0].p[i];
+    }
+    CHECK_STATUS(edmi_residual(&hard_s0, &ts_work, dt, (const edmi_real (*)[3])q1,
+                               (const edmi_real (*)[3])p1, rq, rp, 0),
+                 EDMI_OK);
+    rp_n = hard_absl((long double)rp[0][0]) + hard_absl((long double)rp[0][1]) +
+           hard_absl((long double)rp[0][2]);
+    for (side = -1; side <= 1; side += 2) { /* one unit either way changes R_p by more */
+        q1[0][0] = sys->body[0].q[0] + (edmi_real)side * u;
+        CHECK_STATUS(edmi_residual(&hard_s0, &ts_work, dt, (const edmi_real (*)[3])q1,
+                                   (const edmi_real (*)[3])p1, rq2, rp2, 0),
+                     EDMI_OK);
+        CHECK(hard_absl((long double)rp2[0][0] - (long double)rp[0][0]) > rp_n);
+    }
+    th_puts("  one unit from a Lennard-Jones anchor, MP: exact move ");
+    th_put_ld(x / (long double)u, 2);
+    th_puts(" u, stored ");
+    th_put_ld(((long double)sys->body[0].q[0] - (long double)x0) / (long double)u, 2);
+    th_puts(" u, |R_p| / dt |V'| ");
+    th_put_ld(rp_n / hard_absl(f), 2);
+    th_puts(", dt V'' u / dt |V'| ");
+    th_put_ld(k * (long double)u / hard_absl(hard_lj_d1((long double)u, sigma)), 2);
+    th_newline();
+}
+
 void suite_hard(void)
 {
     th_suite("hard: circular orbit, LG switch, near-collision, stiff springs, the wall, "
@@ -584,4 +674,5 @@ void suite_hard(void)
     hard_wall();
     hard_user_spring();
     hard_no_freeze();
+    hard_grid_floor();
 }

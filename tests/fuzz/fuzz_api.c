@@ -9,8 +9,11 @@
  *   - on an error, the system and every output are byte-identical to before the call;
  *   - on success of edmi_step: a finite state and clock, iterations within l_max, a result
  *     whose fields are finite, and with the guard on the passivity inequality
- *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor on the stored values,
- *     evaluated in long double by tests/passive.c (no library code) within its own bound;
+ *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor + T_n - T_n+1 on the stored
+ *     values and the window form H_n - H_m <= the works in between + T_m over every run of
+ *     guarded steps (tp_window_step), both evaluated in __float128 by tests/passive.c (no
+ *     library code) within its own bound, user potentials included (as the built-in one
+ *     each callback computes); the tank within its capacity, and 0 with tank_cap 0;
  *   - on success of edmi_step that is not a fallback: the stored state solves the scheme
  *     to the bound edmi.h states (EDMI_SOLVED), judged with this harness's own magnitudes
  *     (fz_check_solved);
@@ -150,6 +153,11 @@ typedef struct fz_user {
 
 #define FZ_MAX_USER 8 /* per input; never reused, so a live link's ctx never changes */
 static fz_user fz_users[FZ_MAX_USER];
+/* built-ins behind a user callback (tests/passive.c, tp_user_builtin_fn): the harmonic and
+ * inverse ones, whose V' edmi_pot_eval gives to a few units in the last place everywhere (a
+ * user potential's promise) */
+static edmi_potential fz_wrapped[FZ_MAX_USER];
+
 
 static int fz_user_fn(void *ctx, edmi_real r, edmi_pot_parts *o)
 {
@@ -181,6 +189,16 @@ static int fz_user_dd(void *ctx, edmi_real d0, edmi_real d1, edmi_real *dd, edmi
     return 0;
 }
 
+/* The built-in potential whose V fz_user_fn computes, for the check (tp_user_register). */
+static int fz_user_map(const edmi_potential *p, edmi_potential *b)
+{
+    const fz_user *u = (const fz_user *)p->ctx;
+    if (p->fn != fz_user_fn)
+        return 0;
+    *b = edmi_pot_harmonic((edmi_real)u->k, (edmi_real)u->r0);
+    return 1;
+}
+
 static edmi_potential fz_potential(fz_in *in, int *n_user)
 {
     unsigned kind = fz_u8(in) % 8u;
@@ -207,6 +225,11 @@ static edmi_potential fz_potential(fz_in *in, int *n_user)
                           u);
         if (kind == 6 && !p.fn)
             p.fn = fz_user_fn;
+        if (kind == 6 && (fz_u8(in) & 3u) == 0u) { /* a built-in behind a user callback */
+            edmi_potential *w = &fz_wrapped[*n_user - 1];
+            *w = (fz_u8(in) & 1u) ? edmi_pot_inverse(fz_real(in)) : edmi_pot_harmonic(a, b);
+            p = edmi_pot_user(tp_user_builtin_fn, (fz_u8(in) & 1u) ? tp_user_builtin_dd : 0, w);
+        }
         return p;
     }
     default: /* an invalid kind */
@@ -299,15 +322,6 @@ static int fz_guard_on(const edmi_params *p)
             (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
 }
 
-static int fz_has_user(const edmi_system *s)
-{
-    int j;
-    for (j = 0; j < s->n_links; j++)
-        if (s->link[j].pot.kind == EDMI_POT_USER)
-            return 1;
-    return 0;
-}
-
 /* The state the library hands back after a successful step. */
 static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_real dt,
                           const edmi_step_result *res)
@@ -369,7 +383,10 @@ static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_rea
     if (fz_guard_on(&s0->params) &&
         !(s1->tank >= 0 && s1->tank <= res->tank_cap && fz_finite(res->tank_cap)))
         fz_fail("tank negative or above its capacity", "edmi_step", EDMI_OK);
-    if (!fz_guard_on(&s0->params) || fz_has_user(s0))
+    if (fz_guard_on(&s0->params) && !(s0->params.tank_cap > 0) &&
+        !(s1->tank == 0 && res->tank_cap == 0))
+        fz_fail("a tank with tank_cap 0", "edmi_step", EDMI_OK);
+    if (!fz_guard_on(&s0->params))
         return;
     if (!tp_delta_h(s0, s1, res, &d))
         fz_fail("stored state cannot be evaluated by tests/passive.c", "edmi_step", EDMI_OK);
@@ -378,6 +395,9 @@ static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_rea
                 "(%s)\n", d.dh, d.w, d.diff, d.err, tp_q_name());
         fz_fail("passivity: H rose by more than the work and the tank", "edmi_step", EDMI_OK);
     }
+    if (tp_window_step(s0, s1, res) != 1)
+        fz_fail("passivity: a window of steps rose by more than its work and T_m", "edmi_step",
+                EDMI_OK);
 }
 
 /* FZ_TRACE=1 in the environment prints the system before every step (triage). */
@@ -573,6 +593,10 @@ static int fz_start_evaluable(const edmi_system *s)
     return 1;
 }
 
+/* A run of guarded steps under the window check (tp_window_step) is live until a call other
+ * than a step (a build call, a write into the system) or a step with the guard off. */
+static int fz_window_live;
+
 static void fz_op_step(fz_in *in, int *steps)
 {
     edmi_step_result res;
@@ -586,6 +610,9 @@ static void fz_op_step(fz_in *in, int *steps)
         fz_print_sys(&fz_sys, dt);
     memcpy(&fz_before, &fz_sys, sizeof fz_sys);
     memcpy(&fz_work_before, &fz_work, sizeof fz_work); /* its kept factors (fz_guard_off) */
+    if (!fz_window_live)
+        tp_window_start(&fz_sys);
+    fz_window_live = 1;
     st = edmi_step(&fz_sys, &fz_work, dt, &res);
     if (fz_trace)
         fprintf(stderr, "  -> %s, %d iterations, stop %d, dh %.17g diss_guard %.17g "
@@ -608,6 +635,7 @@ static void fz_op_step(fz_in *in, int *steps)
     if (st == EDMI_OK) {
         fz_check_step(&fz_before, &fz_sys, dt, &res);
         fz_check_solved(&fz_before, &fz_sys, dt, &res);
+        fz_window_live = fz_guard_on(&fz_before.params);
     }
     ++*steps;
 }
@@ -771,6 +799,8 @@ static void fz_op_build(fz_in *in, int *n_user)
     default:
         if (v[0] < (edmi_real)0) { /* the tank: any value, invalid ones too */
             st = edmi_set_tank(&fz_sys, v[1]);
+            if (st == EDMI_OK && v[1] > 0 && !(fz_sys.params.tank_cap > 0))
+                fz_fail("a tank accepted with tank_cap 0", "edmi_set_tank", st);
             break;
         }
         prm = fz_params(in);
@@ -864,7 +894,7 @@ static void fz_op_poke(fz_in *in)
         case 11: fz_sys.g[k] = x; break;
         case 12: fz_sys.link[j].pot.a = x; break;
         case 13: fz_sys.link[j].anchor[k] = x; break;
-        case 14: fz_sys.t_carry = x; break;
+        case 14: if (k == 2) fz_sys.tank = x; else fz_sys.t_carry = x; break;
         default: fz_sys.damper[j].link = fz_index(in, EDMI_MAX_LINKS + 1); break;
         }
     }
@@ -931,12 +961,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     in.d = data;
     in.n = size;
     in.i = 0;
+    tp_user_register(fz_user_map);
     prm = fz_params(&in);
     if (edmi_init(&fz_sys, &prm) != EDMI_OK)
         (void)edmi_init(&fz_sys, 0);
     fz_build(&in, &fz_sys, &n_user);
+    fz_window_live = 0;
     for (ops = 0; ops < FZ_MAX_OPS && !fz_done(&in); ops++) {
         unsigned op = fz_u8(&in) % 16u;
+        if (op >= 7u && op != 15u)
+            fz_window_live = 0; /* anything but a step may change the system */
         if (op < 7u) {
             int k, n = 1 + (int)(fz_u8(&in) % 8u);
             for (k = 0; k < n && steps < FZ_MAX_STEPS; k++)
