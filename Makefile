@@ -69,6 +69,9 @@
 #>     (double), with the mass-matrix tests
 #> make bench-target    2 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     instructions per step, the worst case, stack and the time bound, on QEMU -icount
+#> make worst-target    65 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#>     the costliest step of a one-body virtual coupling a search can make on the Cortex-M4F,
+#>     and the bound the count of its pieces gives (fails if a step exceeds it)
 #> make haptic-target   20 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the 1 kHz virtual coupling on the Cortex-M4F: instructions per tick
 #> make smoke-target    10 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm

@@ -2588,15 +2588,14 @@ static edmi_real edmi__tank_n(const edmi_system *sys)
     return sys->params.tank_cap > EDMI__ZERO ? sys->tank : EDMI__ZERO;
 }
 
-/* The tank's capacity after a step whose end has H's terms of magnitude s: tank_cap eps s,
- * EDMI_REAL_MAX where that overflows, and 0 with tank_cap 0 or the guard off, whatever s
- * (an infinite s beyond the range, where 0 x inf would be NaN). */
-static edmi_real edmi__tank_cap(const edmi_system *sys, edmi_real s)
+/* The tank's capacity after a step whose end has H's terms of magnitude s: cap eps s (cap =
+ * params.tank_cap with the guard on), EDMI_REAL_MAX where that overflows, and 0 with cap 0
+ * whatever s (an infinite s beyond the range, where 0 x inf would be NaN). */
+static edmi_real edmi__tank_cap(edmi_real cap, edmi_real s)
 {
-    edmi_real c;
-    if (!edmi__guard_on(&sys->params) || !(sys->params.tank_cap > EDMI__ZERO))
+    edmi_real c = cap * EDMI_EPS * s;
+    if (!(cap > EDMI__ZERO))
         return EDMI__ZERO;
-    c = sys->params.tank_cap * EDMI_EPS * s;
     return c < EDMI_REAL_MAX ? c : c >= EDMI_REAL_MAX ? EDMI_REAL_MAX : EDMI__ZERO;
 }
 
@@ -2664,14 +2663,17 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
                                  edmi_real *err, edmi_real *ds, edmi_real *mag1)
 {
     const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
-    edmi__dw r0[3], r1[3], s0, s1;
+    edmi__dw r0[3], r1[3], s0 = edmi__dw_of(EDMI__ZERO), s1 = edmi__dw_of(EDMI__ZERO);
     edmi_real d1, den, dd, eds, pert, lam;
     edmi_pot_parts pa, p1;
     edmi_status st;
+    int i;
     edmi__dw_diff3(sys->body[lk->a].q, b0, r0);
     edmi__dw_diff3(q1[lk->a], edmi__end_b(lk, w, q1), r1);
-    s0 = edmi__dw_sq3(r0);
-    s1 = edmi__dw_sq3(r1);
+    for (i = 0; i < 3; i++) { /* |r0|^2 and |r1|^2 (edmi__dw_sq3's sums, kept out of line) */
+        s0 = edmi__dw_add_same(s0, edmi__dw_mul(r0[i], r0[i]));
+        s1 = edmi__dw_add_same(s1, edmi__dw_mul(r1[i], r1[i]));
+    }
     *ds = edmi__dw_real(edmi__dw_sub(s1, s0));
     eds = EDMI__DW_ERR * (s0.hi + s1.hi) + EDMI__DW_TINY; /* ds's error, its rounding aside */
     d1 = EDMI_SQRT(s1.hi);
@@ -3371,6 +3373,13 @@ static EDMI__INLINE edmi_real edmi__comp_dk(const edmi__comp *c, int k)
 #define EDMI__ROUND_K0 8
 #define EDMI__ROUND_WINDOW (EDMI_R(1.0) / EDMI_R(32.0))
 #define EDMI__ROUND_WIDE_K0 64
+/* The guard's time is counted, not searched for: each of the three rounding searches of
+ * edmi__guard_moves tries at most EDMI__ROUND_BUDGET candidates (keeping the best it found
+ * when they run out), and the last resort, which asks for any candidate below the
+ * certificate, tries the 27 position variants with the finer components left where they
+ * are: at most 3 EDMI__ROUND_BUDGET + 27 = 411 candidates an attempt, where there were 2,835
+ * (what the budget changes, measured: docs/guard.md, "The guard's worst case"). */
+#define EDMI__ROUND_BUDGET 128
 
 /* The (up to) three momentum components whose units move K the most, coarsest first. */
 static int edmi__pick_comps(const edmi_system *sys, edmi_workspace *work, edmi__comp c[3])
@@ -3538,18 +3547,19 @@ static void edmi__sort_residues(const edmi_real *r, int n, int *order)
  * rounding). The coarsest momentum component is solved for each candidate; for each offset
  * pair of the two finer ones only the position variants whose energies fall nearest the
  * gap (modulo the coarsest unit: the variants are kept sorted by that residue) are tried.
- * Returns 0 if none. */
+ * At most *budget candidates, each counted off it (EDMI__ROUND_BUDGET). Returns 0 if none. */
 static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm, int k3,
                               edmi_real goal, edmi_real hi, edmi_real tol, edmi_real l2, int k[3],
-                              int *qv)
+                              int *qv, int *budget)
 {
     edmi_real best = EDMI_REAL_MAX, best_m = EDMI_REAL_MAX, got, m_ok, bq[27], jq[27][3], rq[27];
     edmi_real unit = EDMI_R(2.0) * EDMI__PK(&c[0]) * c[0].u / c[0].m2; /* K per unit of c[0], signed */
     int order[27], v, j1, j2, lim1, lim2, k0, found = 0, j, lo, hi_i, w;
     if (n == 0)
         return 0;
-    lim1 = n >= 2 ? edmi__round_range(&c[0], &c[1]) : 0;
-    lim2 = n >= 3 ? edmi__round_range(&c[1], &c[2]) : 0;
+    /* the last resort (k3 < 0) leaves the finer components where they are */
+    lim1 = n >= 2 && k3 > 0 ? edmi__round_range(&c[0], &c[1]) : 0;
+    lim2 = n >= 3 && k3 > 0 ? edmi__round_range(&c[1], &c[2]) : 0;
     /* good enough to stop: within tol, and J moved by at most twice what a one-unit move of
      * any component does (plain rounding moves each by up to half a unit) */
     m_ok = EDMI__ZERO;
@@ -3581,9 +3591,9 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
             edmi_real e12 = e1 + (lim2 ? edmi__comp_dk(&c[2], i2) : EDMI__ZERO);
             edmi_real ft = edmi__frac((goal - e12) / unit);
             /* the variants whose residue brackets ft, two on each side (cyclic); the last
-             * resort (k3 < 0) tries them all: where a unit of q moves H by more than the
-             * coarsest momentum component's whole range (a body near rest off the origin),
-             * the residue says nothing about which one fits */
+             * resort (k3 < 0, the finer components unmoved) tries all 27: where a unit of q
+             * moves H by more than the coarsest momentum component's whole range (a body
+             * near rest off the origin), the residue says nothing about which one fits */
             for (lo = 0, hi_i = qm->n; lo < hi_i;) {
                 int mid = (lo + hi_i) / 2;
                 if (rq[order[mid]] <= ft)
@@ -3595,6 +3605,9 @@ static int edmi__round_search(const edmi__comp *c, int n, const edmi__qmoves *qm
                 edmi_real err, dj[3], dl[3], m;
                 int kk[3], at = k3 < 0 ? w + qm->n : lo + w; /* cyclic: lo in [0, n] */
                 v = order[at < 0 ? at + qm->n : at >= qm->n ? at - qm->n : at];
+                if (*budget <= 0)
+                    return found; /* the best so far (EDMI__ROUND_BUDGET) */
+                --*budget;
                 if (!edmi__solve_coarse(&c[0], k3 < 0 ? -k3 : k3, k3 < 0, e12 + bq[v], goal, hi,
                                         &k0, &got))
                     continue;
@@ -3862,6 +3875,7 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
     edmi__comp c[3];
     edmi__qmoves qm;
     int k[3], n = edmi__pick_comps(sys, work, c), o[3], qv = 0, j;
+    int budget = k3 < 0 ? 27 : EDMI__ROUND_BUDGET;
     edmi_real l2 = EDMI__ZERO, tol, goal;
     if (n == 0)
         return 0;
@@ -3875,7 +3889,7 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
      * component below the edge, or its misses need a drag (measured: the hanging cable's
      * first steps from rest, where the tank is empty) */
     goal = t->goal - (EDMI__COUPLED(sys) ? edmi__abs(edmi__comp_dk(&c[0], 2)) : EDMI__ZERO);
-    if (!edmi__round_search(c, n, &qm, k3, goal, t->hi, tol, l2, k, &qv))
+    if (!edmi__round_search(c, n, &qm, k3, goal, t->hi, tol, l2, k, &qv, &budget))
         return 0;
     if ((k[0] | k[1] | k[2]) != 0) {
         edmi__round_apply(work, c, n, k);
@@ -3956,7 +3970,7 @@ static int edmi__guard_moves(const edmi_system *sys, edmi_workspace *work, edmi_
     if (r < 0 || (!fresh && !edmi__reaim(sys, work, bal, t)))
         return -1;
     /* last resort, e.g. a position's rounding larger than the kinetic energy left: any
-     * candidate below the certificate, however far from the target */
+     * candidate below the certificate, however far from the target (27 at most) */
     if (!edmi__certified(t) && (edmi__guard_round(sys, work, bal, t, -EDMI__ROUND_WIDE_K0, res) < 0 ||
                                 !edmi__reaim(sys, work, bal, t)))
         return -1;
@@ -4280,7 +4294,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
                 work->p1[a][i] = EDMI__ZERO;
     }
     if (edmi__guard_on(&sys->params)) {
-        res->tank_cap = edmi__tank_cap(sys, s1);
+        res->tank_cap = edmi__tank_cap(sys->params.tank_cap, s1);
         res->tank = after >= EDMI__REAL_MIN ? (after < res->tank_cap ? after : res->tank_cap)
                                             : EDMI__ZERO;
     }
@@ -4296,7 +4310,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
 {
     edmi__balance bal;
     edmi__plain pl;
-    edmi_real cap, x, so;
+    edmi_real cap, x, so, tank;
     edmi_status st = edmi__step_work(sys, work, dt, res, &bal);
     int guard = edmi__guard_on(&sys->params), exact = sys->params.energy_balance;
     if (st == EDMI_OK && !(edmi__finite(res->work_ext) && edmi__finite(res->work_anchor) &&
@@ -4307,11 +4321,12 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
     st = edmi__plain_excess(sys, work, res, &pl);
     if (st != EDMI_OK)
         return st;
-    cap = res->tank_cap = edmi__tank_cap(sys, pl.s1);
+    cap = res->tank_cap = edmi__tank_cap(guard ? sys->params.tank_cap : EDMI__ZERO, pl.s1);
     res->dh = pl.e + (res->work_ext + res->work_anchor);
+    tank = edmi__tank_n(sys);
     if (guard && !exact && pl.ok && edmi__finite(pl.scheme) && edmi__finite(res->dh) &&
-        edmi__tank_after(edmi__tank_n(sys), pl.e, pl.m) >= cap &&
-        edmi__tank_after(edmi__tank_n(sys), pl.e, pl.m + edmi__plain_tiny(sys, work)) >= cap) {
+        edmi__tank_after(tank, pl.e, pl.m) >= cap &&
+        edmi__tank_after(tank, pl.e, pl.m + edmi__plain_tiny(sys, work)) >= cap) {
         res->certificate = EDMI_CERT_PLAIN;
         res->tank = res->tank_cap;
         res->diss_scheme = pl.scheme;

@@ -46,7 +46,8 @@
  *   +-0.2 instructions per step.
  * - Single calls (the worst step, the pieces of the bound): one tick is too coarse, so the
  *   call starts on a tick edge (a spin loop waits for one) and the time from its end to the
- *   next edge is counted in iterations of a 4-instruction spin loop (bt_span_raw). Loops of
+ *   next edge is counted in iterations of a 4-instruction spin loop (bt_span_raw, with
+ *   cortex-m/span.h's tgt_spin). Loops of
  *   known length calibrate the error, which is printed (a few instructions).
  * On real Cortex-M3/M4/M7 silicon (semihosting through a debugger) the DWT cycle counter
  * runs, and the program counts cycles with it instead and says so. */
@@ -55,6 +56,7 @@
 #include "../edmi.h"
 #include "bench_scenes.h"
 #include "cortex-m/counter.h"
+#include "cortex-m/span.h"
 #include "cortex-m/semihost.h"
 #include "cortex-m/stack.h"
 
@@ -67,8 +69,7 @@
 /* The calibration loop: BT_CAL_ITERS iterations of SUBS + BNE. */
 #define BT_CAL_ITERS 1000000UL
 #define BT_CAL_INSNS (2UL * BT_CAL_ITERS)
-#define BT_INSNS_PER_TICK 40UL /* 25 MHz SysTick, 1 ns per instruction */
-#define BT_SPIN_INSNS 4UL      /* instructions per iteration of bt_spin's loop */
+#define BT_INSNS_PER_TICK TGT_INSNS_PER_TICK /* 25 MHz SysTick, 1 ns per instruction */
 /* Single-call calibration: loops of 2n instructions, n = 1..BT_SPAN_CAL. A spread of the
  * measured minus the known count above BT_SPAN_MAX_ERR means the method does not work here. */
 #define BT_SPAN_CAL 80UL
@@ -114,10 +115,6 @@ static edmi_workspace bt_work;
  * kept for the run's next step, and the factors its steps keep are not theirs. */
 static edmi_workspace bt_work_variant;
 
-static void bt_cal_loop(unsigned long n)
-{
-    __asm__ volatile("1: subs %0, %0, #1\n\tbne 1b" : "+r"(n) : : "cc");
-}
 
 static edmi_status bt_null_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                 edmi_step_result *res)
@@ -193,22 +190,6 @@ static void bt_measure(int steps, edmi_real dt, bt_run *out)
 
 /* ---- single calls ------------------------------------------------------------------------ */
 
-/* Spin until SysTick's current value changes: *first is the value it left, the result the
- * number of loop iterations (BT_SPIN_INSNS instructions each). */
-static unsigned long bt_spin(unsigned long *first)
-{
-    unsigned long n = 0, a, b;
-    __asm__ volatile("ldr %1, [%3]\n\t"
-                     "1: adds %0, %0, #1\n\t"
-                     "ldr %2, [%3]\n\t"
-                     "cmp %1, %2\n\t"
-                     "beq 1b"
-                     : "+r"(n), "=&r"(a), "=&r"(b)
-                     : "r"(&TGT_SYST_CVR)
-                     : "cc", "memory");
-    *first = a;
-    return n;
-}
 
 /* What a timed call does; its arguments are globals so every call has the same sequence. */
 typedef edmi_status (*bt_call_fn)(void);
@@ -221,7 +202,7 @@ static unsigned long bt_loop_n;
 
 static edmi_status bt_call_loop(void)
 {
-    bt_cal_loop(bt_loop_n);
+    tgt_cal_loop(bt_loop_n);
     return EDMI_OK;
 }
 /* A step through bt_step: with bt_null_step it is the no-op whose count is subtracted. */
@@ -251,10 +232,10 @@ static unsigned long bt_span_raw(edmi_status *st)
         b = tgt_cyccnt();
         return b - a;
     }
-    (void)bt_spin(&a);
+    (void)tgt_spin(&a);
     *st = bt_call();
-    n = bt_spin(&b);
-    return ((a - b) & TGT_SYST_MASK) * BT_INSNS_PER_TICK - n * BT_SPIN_INSNS;
+    n = tgt_spin(&b);
+    return ((a - b) & TGT_SYST_MASK) * TGT_INSNS_PER_TICK - n * TGT_SPIN_INSNS;
 }
 
 static unsigned long bt_span_null; /* raw count of a no-op step */
@@ -1178,10 +1159,10 @@ int main(void)
         /* Calibration: twice, to see that the count is deterministic. */
         tgt_ticks_start();
         cal1 = tgt_ticks();
-        bt_cal_loop(BT_CAL_ITERS);
+        tgt_cal_loop(BT_CAL_ITERS);
         cal1 = tgt_ticks() - cal1;
         cal2 = tgt_ticks();
-        bt_cal_loop(BT_CAL_ITERS);
+        tgt_cal_loop(BT_CAL_ITERS);
         cal2 = tgt_ticks() - cal2;
         tgt_puts("calibration: ");
         tgt_put_uint(BT_CAL_INSNS);

@@ -17,6 +17,10 @@
 #                       stack high-water mark of edmi_step, the pieces and bound of a step's
 #                       worst case and forced fallback steps, on QEMU with -icount shift=0
 #                       (port/bench_target.c); for the M4F also at a one-body capacity
+#   make worst-target   the costliest step of a one-body virtual coupling (the coupling build
+#                       at 1 body, 2 links) that a search can make on the Cortex-M4F, and the
+#                       bound the count of its pieces gives (port/worst_target.c; WT_FLAGS=
+#                       '-DWT_RANDOM=n -DWT_CLIMB=n' sets the search's size)
 #   make haptic-target  the 1 kHz virtual coupling of examples/haptic.c on the Cortex-M4F
 #                       (float): instructions per tick, mean and worst, guard actions,
 #                       failures, passivity of every tick (port/haptic_target.c)
@@ -96,7 +100,7 @@ tgt_capdefs = -DEDMI_MAX_BODIES=$(word 1,$(subst -, ,$(1))) \
                   -DEDMI_MAX_MASS_GAP=$(patsubst m%,%,$(word 4,$(subst -, ,$(1)))),\
                   $(if $(word 4,$(subst -, ,$(1))),-DEDMI_MAX_MATRIX=$(word 4,$(subst -, ,$(1)))))
 
-.PHONY: tgt-cross test-target bench-target haptic-target check-ram check-sqrt check-port study-target \
+.PHONY: tgt-cross test-target bench-target worst-target haptic-target check-ram check-sqrt check-port study-target \
         smoke-target
 cross: tgt-cross
 
@@ -321,6 +325,24 @@ bench-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/bench_target.elf) \
 	$(foreach b,$(TGT_BOARDS),$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/bench_target.elf \
 	    -icount shift=0 &&) true
 	$(TGT_RUN) $(TGT_MACHINE_an386) $(TGT_BENCH_CAP_DIR)/bench_target.elf -icount shift=0
+
+# The costliest step of a one-body virtual coupling on the Cortex-M4F, found by a search
+# (port/worst_target.c): the coupling build (FEAT_coupling) at one body and two links.
+TGT_WORST_DIR := $(TGT)/an386-worst
+TGT_WORST_CFG := -DEDMI_REAL=float $(FEAT_coupling) -DEDMI_MAX_BODIES=1 -DEDMI_MAX_LINKS=2
+$(TGT_WORST_DIR)/edmi.o: edmi.c edmi.h
+	@mkdir -p $(@D)
+	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) $(TGT_WORST_CFG) -c $< -o $@
+$(TGT_WORST_DIR)/app-worst_target.o: port/worst_target.c edmi.h $(TGT_PORT_HDR)
+	@mkdir -p $(@D)
+	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) $(TGT_WORST_CFG) $(WT_FLAGS) \
+	    -c $< -o $@
+$(TGT_WORST_DIR)/worst_target.elf: $(TGT_WORST_DIR)/edmi.o $(TGT_RT_an386) \
+		$(TGT_WORST_DIR)/app-worst_target.o $(TGT_LD)
+	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $(filter %.o,$^) -lm -lc -lgcc -o $@
+worst-target: $(TGT_WORST_DIR)/worst_target.elf
+	$(TGT_RUN) $(TGT_MACHINE_an386) $< -icount shift=0
 
 # The haptic example on the Cortex-M4F in float, as a firmware would run it.
 haptic-target: $(TGT)/an386/haptic_target.elf
