@@ -285,6 +285,7 @@ $(BUILD)/fuzz-coupling-%/fuzz: $(FUZZ_DEPS)
 	    -fno-sanitize-recover=all -DEDMI_REAL=$* $(FUZZ_SRC) -o $@ -lm
 
 fuzz: $(foreach r,double float,$(BUILD)/fuzz-$(r)/fuzz $(BUILD)/fuzz-coupling-$(r)/fuzz)
+	EDMI_TEST_TIMEOUT=$$(($(FUZZ_TIME) + 300)) \
 	bash tests/run_all.sh 'bash tests/fuzz/run.sh $(FUZZ_TIME) $(BUILD) double float' \
 	    'bash tests/fuzz/run.sh $$(($(FUZZ_TIME) / 4)) $(BUILD) coupling-double coupling-float'
 

@@ -104,7 +104,7 @@
 
 /* The smallest helpers the energy balance and the guard call hundreds of times per step are
  * inlined where edmi_real arithmetic is hardware: on the Cortex-M4F at -Os (QEMU, float PM)
- * 11 % fewer instructions per step, for 2.2 kB of flash (docs/porting.md, EDMI_NO_INLINE).
+ * 11 % fewer instructions per step, for 2.4 kB of flash (docs/porting.md, EDMI_NO_INLINE).
  * Where every operation is a soft-float call (Cortex-M0+, rv32imac) inlining only copies
  * calls (+6 to +9 kB), so the compiler decides there, as with -DEDMI_NO_INLINE. */
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_

@@ -370,9 +370,9 @@ typedef struct edmi_params {
                               positions kept and the kinetic energy relative to the centre of
                               mass (with anchors, all of it) removed. With fallback, every
                               step whose input edmi_step() accepts returns EDMI_OK in bounded
-                              time; the one exception is an anchor moved (edmi_move_anchor())
-                              onto its body or beyond the range, where no passive state
-                              exists. 0 by default */
+                              time (docs/targets.md counts it); the one exception is an
+                              anchor moved (edmi_move_anchor()) onto its body or beyond the
+                              range, where no passive state exists. 0 by default */
 } edmi_params;
 
 /** The largest edmi_params.substep_levels: 2^10 substeps. */
@@ -573,7 +573,7 @@ typedef enum edmi_stop {
  *  the last place changes R_p by, the floor of any state on the grid: where that exceeds the
  *  forces (a body a few units from a repulsive wall's centre, moving less than a unit in the
  *  step), EDMI_OK means solved to the grid's resolution only, the positions within a unit of
- *  the scheme's solution and |R_p| up to the size of dt |f| (docs/api.md, "Solver"). */
+ *  the scheme's solution and |R_p| up to the size of dt |f| (docs/api.md, "Limits"). */
 #define EDMI_SOLVED 1024
 
 /** Bits of edmi_step_result.guard_action: what the passivity guard changed. */
