@@ -7,7 +7,7 @@
 #> make run             55 s
 #>     the main job: the spring's accuracy table, then the paper's three examples with every
 #>     scheme (edmi-sim), a line as each of its 27 runs ends
-#> make test            5 min    needs g++ (clang: one check more)
+#> make test            4 min    needs g++ (clang: one check more)
 #>     the test suite in four configurations (double, float, both under ASan+UBSan) and in
 #>     three builds with features compiled out (FEATURES), the simulator's tests, the fuzz
 #>     corpus replayed, library checks; last line "N passed, N failed"
@@ -69,7 +69,7 @@
 #>     (double), with the mass-matrix tests
 #> make bench-target    2 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     instructions per step, the worst case, stack and the time bound, on QEMU -icount
-#> make worst-target    65 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make worst-target    60 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the costliest step of a one-body virtual coupling a search can make on the Cortex-M4F,
 #>     and the bound the count of its pieces gives (fails if a step exceeds it)
 #> make haptic-target   20 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
