@@ -126,7 +126,7 @@ static float wt_sym(void) { return 2.0f * wt_unit() - 1.0f; }
 
 static void wt_random(wt_state *s)
 {
-    float len = wt_logu(-10, 4), dist[2], v;
+    float len = wt_logu(-10, 4), v;
     int i, j;
     s->m = wt_logu(-12, 12);
     s->dt = wt_logu(-16, 3);
@@ -137,10 +137,9 @@ static void wt_random(wt_state *s)
         s->k[j] = s->m * w * w;
         for (i = 0; i < 3; i++)
             s->x[j][i] = s->q[i] + len * wt_sym();
-        dist[j] = len;
-        s->r0[j] = (wt_rand() & 1UL) ? 0.0f : wt_logu(-8, 2) * dist[j];
+        s->r0[j] = (wt_rand() & 1UL) ? 0.0f : wt_logu(-8, 2) * len;
         s->moving[j] = (int)(wt_rand() % 3UL) != 0;
-        v = wt_logu(-24, 4) * dist[j];
+        v = wt_logu(-24, 4) * len;
         for (i = 0; i < 3; i++)
             s->xn[j][i] = s->x[j][i] + v * wt_sym();
     }
@@ -451,11 +450,30 @@ static void wt_put_row(const char *piece, long v, const char *how)
     tgt_puts(" |\n");
 }
 
+/* The pieces of a step: name, objective, how it is timed. */
+typedef struct wt_piece {
+    const char *name;
+    wt_obj f;
+    const char *how;
+} wt_piece;
+
+static const wt_piece pieces[5] = {
+    {"first", wt_obj_first,
+     "validation, set-up, the predictor, 1 correction: a step failing at l_max 1"},
+    {"iter", wt_obj_iter,
+     "one more correction: F(l_max = l + 1) - F(l_max = l), both failing, l from 1 to 19"},
+    {"eval", wt_obj_eval, "one residual evaluation: edmi_residual less its set-up"},
+    {"last", wt_obj_last,
+     "the last correction, the energy balance and the guard: a step less F(l_max = its "
+     "corrections - 1)"},
+    {"fallback", wt_obj_fallback,
+     "F(l_max, fallback) - F(l_max), the step failing without the fallback"}};
+
 int main(void)
 {
     static const char *const guard_moves[5] = {"impulse", "drag", "round", "stop", "hold"};
     wt_state best, step_best[WT_LEVELS];
-    long first, iter, eval, last, fallback, t_l, bound, estimate, worst[WT_LEVELS];
+    long piece[5], first, iter, eval, last, fallback, t_l, bound, estimate, worst[WT_LEVELS];
     long err, n_climb = WT_CLIMB, n_random = WT_RANDOM;
     int level, j, failed = 0;
     wt_cycles = tgt_cyccnt_start();
@@ -476,20 +494,15 @@ int main(void)
     tgt_put_uint((unsigned long)(WT_TOP * n_climb));
     tgt_puts(" mutations of the costliest found.\n\n| piece | largest found | states tried | "
              "how |\n|---|---:|---:|---|\n");
-    first = wt_search(wt_obj_first, 0, n_random, n_climb, &best);
-    wt_put_row("first", first, "validation, set-up, the predictor, 1 correction: a step failing "
-                               "at l_max 1");
-    iter = wt_search(wt_obj_iter, 0, n_random, n_climb, &best);
-    wt_put_row("iter", iter, "one more correction: F(l_max = l + 1) - F(l_max = l), both "
-                             "failing, l from 1 to 19");
-    eval = wt_search(wt_obj_eval, 0, n_random, n_climb, &best);
-    wt_put_row("eval", eval, "one residual evaluation: edmi_residual less its set-up");
-    last = wt_search(wt_obj_last, 0, n_random, n_climb, &best);
-    wt_put_row("last", last, "the last correction, the energy balance and the guard: a step "
-                             "less F(l_max = its corrections - 1)");
-    fallback = wt_search(wt_obj_fallback, 0, n_random, n_climb, &best);
-    wt_put_row("fallback", fallback, "F(l_max, fallback) - F(l_max), the step failing "
-                                     "without the fallback");
+    for (j = 0; j < 5; j++) { /* the pieces, in this order (the search's random sequence) */
+        piece[j] = wt_search(pieces[j].f, 0, n_random, n_climb, &best);
+        wt_put_row(pieces[j].name, piece[j], pieces[j].how);
+    }
+    first = piece[0];
+    iter = piece[1];
+    eval = piece[2];
+    last = piece[3];
+    fallback = piece[4];
     for (level = 0; level < WT_LEVELS; level++)
         worst[level] = wt_search(wt_obj_step, level, n_random, n_climb, &step_best[level]);
     t_l = first + 18L * iter + last + 160L * iter + fallback + iter;

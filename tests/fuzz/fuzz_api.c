@@ -894,7 +894,12 @@ static void fz_op_poke(fz_in *in)
         case 11: fz_sys.g[k] = x; break;
         case 12: fz_sys.link[j].pot.a = x; break;
         case 13: fz_sys.link[j].anchor[k] = x; break;
-        case 14: if (k == 2) fz_sys.tank = x; else fz_sys.t_carry = x; break;
+        case 14: /* the clock's carry, or the tank (any value: the next step checks it) */
+            if (k == 2)
+                fz_sys.tank = x;
+            else
+                fz_sys.t_carry = x;
+            break;
         default: fz_sys.damper[j].link = fz_index(in, EDMI_MAX_LINKS + 1); break;
         }
     }
