@@ -1021,7 +1021,8 @@ edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
 typedef struct edmi__at_end {
     edmi_real d1;       /* d_n+1 */
     edmi_pot_parts p1;  /* potential parts at d_n+1 (when the scheme needs them) */
-    edmi_pot_parts pa;  /* potential parts at d_avg = (d_n + d_n+1)/2 (when needed) */
+    edmi_pot_parts pavg; /* potential parts at d_avg = (d_n + d_n+1)/2 (when needed) */
+    const edmi_pot_parts *pa; /* pavg, or p1 where d_avg = d_n+1 */
 } edmi__at_end;
 
 /* LG (eq. LaBudde-Greenspan-approximation): the quotient as written. Its cancellation error
@@ -1045,8 +1046,8 @@ static void edmi__lambda_lg_quotient(const edmi_link_ws *w, const edmi__at_end *
 /* Janz's alternate (eq. janz-mid-point-rescue): V'(||q||_n+1/2). */
 static void edmi__lambda_janz(const edmi__at_end *e, edmi_real *lam, edmi_real *dlam)
 {
-    *lam = e->pa.v[1];
-    *dlam = EDMI__HALF * e->pa.v[2];
+    *lam = e->pa->v[1];
+    *dlam = EDMI__HALF * e->pa->v[2];
 }
 
 /* Gonzalez's alternate (eq. gonzalez-mid-point-rescue). */
@@ -1054,9 +1055,9 @@ static void edmi__lambda_gonzalez(const edmi_link_ws *w, const edmi__at_end *e, 
                                   edmi_real *dlam)
 {
     edmi_real dd = e->d1 - w->d0;
-    *lam = e->pa.v[1] + dd * dd / EDMI_R(24.0) * e->pa.v[3];
-    *dlam = EDMI__HALF * e->pa.v[2] + dd / EDMI_R(12.0) * e->pa.v[3] +
-            dd * dd / EDMI_R(48.0) * e->pa.v[4];
+    *lam = e->pa->v[1] + dd * dd / EDMI_R(24.0) * e->pa->v[3];
+    *dlam = EDMI__HALF * e->pa->v[2] + dd / EDMI_R(12.0) * e->pa->v[3] +
+            dd * dd / EDMI_R(48.0) * e->pa->v[4];
 }
 
 /* f_ge (eq. convex-concave-scheme-p): V_c'(d_n+1) + V_e'(d_n). */
@@ -1073,8 +1074,8 @@ static void edmi__lambda_pm(const edmi_link_ws *w, const edmi__at_end *e, edmi_r
                             edmi_real *dlam)
 {
     edmi_real dd = e->d1 - w->d0, s3 = e->p1.sp[3] + w->d3m0;
-    *lam = e->pa.v[1] + dd * dd / EDMI_R(24.0) * s3;
-    *dlam = EDMI__HALF * e->pa.v[2] + dd / EDMI_R(12.0) * s3 + dd * dd / EDMI_R(24.0) * e->p1.sp[4];
+    *lam = e->pa->v[1] + dd * dd / EDMI_R(24.0) * s3;
+    *dlam = EDMI__HALF * e->pa->v[2] + dd / EDMI_R(12.0) * s3 + dd * dd / EDMI_R(24.0) * e->p1.sp[4];
 }
 
 /* f_pt (eq. super-convex-concave-trapezoidal-scheme-p):
@@ -1239,10 +1240,13 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
             le->v1 = e.p1.v[0];
             le->m1 = edmi__pot_mag(&e.p1, e.d1);
         }
-        if (need & EDMI__NEED_AVG) {
-            st = edmi__pot_parts(pot, EDMI__HALF * (w->d0 + e.d1), &e.pa, 0); /* V only */
+        e.pa = &e.p1; /* d_avg = d_n+1 = d_n (PM's predictor): the values at d_n+1 */
+        if ((need & EDMI__NEED_AVG) &&
+            !((need & EDMI__NEED_END) && e.d1 == w->d0 && edmi__finite(w->d0 + w->d0))) {
+            st = edmi__pot_parts(pot, EDMI__HALF * (w->d0 + e.d1), &e.pavg, 0); /* V only */
             if (st != EDMI_OK)
                 return st;
+            e.pa = &e.pavg;
         }
         if (!EDMI_WITH_LG_QUOTIENT || prm->scheme != EDMI_LG)
             edmi__lambda_decaying(prm->scheme, w, &e, &lam, &dlam);
