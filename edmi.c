@@ -1134,18 +1134,10 @@ static void edmi__lambda_lg_alt(edmi_lg_alt alt, const edmi_link_ws *w, const ed
     }
 }
 
-/* beta and the tangent d f / d r_n+1 = dt (beta/2 I + gamma (r_m / rm_div) (x) u) of one
- * link (rm_div 1 but where r_m is scaled to keep the factors within range). */
-typedef struct edmi__link_eval {
-    edmi_real beta;
-    edmi_real gamma;
-    edmi_real u[3];
-    edmi_real rm_div;
-    edmi_real beta_err; /* the LG quotient's cancellation error in beta */
-    int switched;       /* LG used its alternate */
-    int have1;          /* V was evaluated at d_n+1: d1, v1 and its magnitude m1 */
-    edmi_real d1, v1, m1;
-} edmi__link_eval;
+/* Each force below writes the link's beta and its tangent d f / d r_n+1 = dt (beta/2 I +
+ * gamma r_m (x) u) into its workspace, where edmi__link_force has put r_m (w->rm); the linear
+ * GE force also scales r_m (its *rm_div, 1 otherwise) to keep the tangent's factors within
+ * range, once the force itself is formed. */
 
 /* The forces of a harmonic spring of rest length 0 (edmi__is_linear). The general forms
  * divide by d_m or d_n + d_n+1; their limits are closed forms. With dd = d_n+1 - d_n:
@@ -1161,48 +1153,49 @@ typedef struct edmi__link_eval {
  *       gamma r_m (x) u is at most k, but gamma alone grows like 1/d^2: it is formed as
  *       2k (d_n/s) (r_m/s) (x) (r_n+1/d_n+1), s = d_n + d_n+1, each factor at most 2k or 1,
  *       so that a body settling onto its anchor (d ~ 1e-20 in float) keeps a finite tangent. */
-static void edmi__beta_linear(edmi_scheme scheme, edmi_real k, const edmi_link_ws *w,
-                              const edmi_real r1[3], edmi__link_eval *le)
+static void edmi__beta_linear(edmi_scheme scheme, edmi_real k, edmi_link_ws *w,
+                              const edmi_real r1[3], edmi_real *rm_div)
 {
-    edmi_real d1 = edmi__norm(r1), s = w->d0 + d1;
-    le->beta = k;
-    le->gamma = EDMI__ZERO;
-    edmi__copy3(r1, le->u);
-    if (EDMI__HAS_SCHEME(EDMI_GE) && scheme == EDMI_GE && s > EDMI__ZERO) {
+    w->beta = k;
+    w->gamma = EDMI__ZERO;
+    edmi__copy3(r1, w->u);
+    if (EDMI__HAS_SCHEME(EDMI_GE) && scheme == EDMI_GE) {
+        edmi_real d1 = edmi__norm(r1), s = w->d0 + d1;
         int i;
-        le->beta = EDMI_R(2.0) * k * (d1 / s);
+        if (!(s > EDMI__ZERO))
+            return;
+        w->beta = EDMI_R(2.0) * k * (d1 / s);
         if (d1 > EDMI__ZERO) {
-            le->gamma = EDMI_R(2.0) * k * (w->d0 / s);
-            le->rm_div = s;
+            w->gamma = EDMI_R(2.0) * k * (w->d0 / s);
+            *rm_div = s;
             for (i = 0; i < 3; i++)
-                le->u[i] = r1[i] / d1;
+                w->u[i] = r1[i] / d1;
         }
     }
 }
 
 /* f_mp: beta = V'(d_m)/d_m with d_m = |r_m| (one-point Gauss, section 3.2). */
-static edmi_status edmi__beta_mp(const edmi_potential *pot, const edmi_real rm[3],
-                                 edmi__link_eval *le)
+static edmi_status edmi__beta_mp(const edmi_potential *pot, edmi_link_ws *w)
 {
     edmi_pot_parts pm;
-    edmi_real dm = edmi__norm(rm);
+    edmi_real dm = edmi__norm(w->rm);
     edmi_status st;
     if (!(dm > EDMI__ZERO) || !edmi__finite(dm))
         return EDMI_ERR_DIVERGED;
     st = edmi__pot_parts(pot, dm, &pm, 0); /* V only */
     if (st != EDMI_OK)
         return st;
-    le->beta = pm.v[1] / dm;
+    w->beta = pm.v[1] / dm;
     /* d beta / d r_n+1 = (V'' - beta)/d_m * r_m/(2 d_m) */
-    le->gamma = (pm.v[2] - le->beta) / (EDMI_R(2.0) * dm * dm);
-    edmi__copy3(rm, le->u);
+    w->gamma = (pm.v[2] - w->beta) / (EDMI_R(2.0) * dm * dm);
+    edmi__copy3(w->rm, w->u);
     return EDMI_OK;
 }
 
 /* f_lg, f_ge, f_pm, f_pt: beta = 2 Lambda / (d_n + d_n+1). */
 static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential *pot,
-                                    const edmi_link_ws *w, const edmi_real r1[3],
-                                    edmi__link_eval *le)
+                                    edmi_link_ws *w, const edmi_real r1[3], edmi_real dt,
+                                    int *switched)
 {
     edmi__at_end e;
     edmi_real lam = EDMI__ZERO, dlam = EDMI__ZERO, lam_err = EDMI__ZERO, s;
@@ -1235,10 +1228,10 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
             st = edmi__pot_parts(pot, e.d1, &e.p1, 1);
             if (st != EDMI_OK)
                 return st;
-            le->have1 = 1; /* kept for the guard's plain certificate */
-            le->d1 = e.d1;
-            le->v1 = e.p1.v[0];
-            le->m1 = edmi__pot_mag(&e.p1, e.d1);
+            w->have1 = 1; /* kept for the guard's plain certificate */
+            w->d1 = e.d1;
+            w->v1 = e.p1.v[0];
+            w->m1 = edmi__pot_mag(&e.p1, e.d1);
         }
         e.pa = &e.p1; /* d_avg = d_n+1 = d_n (PM's predictor): the values at d_n+1 */
         if ((need & EDMI__NEED_AVG) &&
@@ -1256,12 +1249,14 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
             edmi__lambda_lg_quotient(w, &e, &lam, &dlam, &lam_err);
     }
     s = w->d0 + e.d1;
-    le->beta = EDMI_R(2.0) * lam / s;
-    le->beta_err = EDMI_R(2.0) * lam_err / s;
+    w->beta = EDMI_R(2.0) * lam / s;
+    lam_err = EDMI_R(2.0) * lam_err / s; /* the error of beta */
+    if (lam_err != EDMI__ZERO)
+        w->noise = dt * edmi__norm(w->rm) * lam_err;
     /* d beta / d r_n+1 = (2 Lambda' - beta)/s * r_n+1/d_n+1 */
-    le->gamma = (EDMI_R(2.0) * dlam - le->beta) / (s * e.d1);
-    edmi__copy3(r1, le->u);
-    le->switched = lg_switch;
+    w->gamma = (EDMI_R(2.0) * dlam - w->beta) / (s * e.d1);
+    edmi__copy3(r1, w->u);
+    *switched = lg_switch;
     return EDMI_OK;
 }
 
@@ -1505,39 +1500,27 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
 {
     const edmi_link *lk = &sys->link[j];
     edmi_link_ws *w = &work->lw[j];
-    edmi__link_eval le;
-    edmi_real rm[3];
-    edmi_status st;
+    edmi_real rm_div = EDMI__ONE;
+    edmi_status st = EDMI_OK;
     int i;
     for (i = 0; i < 3; i++)
-        rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
-    le.switched = 0;
-    le.rm_div = EDMI__ONE;
-    le.have1 = 0;
-    le.d1 = le.v1 = le.m1 = EDMI__ZERO;
-    le.beta_err = EDMI__ZERO;
-    st = EDMI_OK;
+        w->rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+    w->have1 = 0;
+    w->noise = EDMI__ZERO;
+    *switched = 0;
     if (edmi__is_linear(&lk->pot))
-        edmi__beta_linear(sys->params.scheme, lk->pot.a, w, r1, &le);
+        edmi__beta_linear(sys->params.scheme, lk->pot.a, w, r1, &rm_div);
     else if (EDMI__HAS_SCHEME(EDMI_MP) && sys->params.scheme == EDMI_MP)
-        st = edmi__beta_mp(&lk->pot, rm, &le);
+        st = edmi__beta_mp(&lk->pot, w);
     else
-        st = edmi__beta_split(&sys->params, &lk->pot, w, r1, &le);
+        st = edmi__beta_split(&sys->params, &lk->pot, w, r1, dt, switched);
     if (st != EDMI_OK)
         return st;
-    *switched = le.switched;
-    w->have1 = le.have1;
-    w->d1 = le.d1;
-    w->v1 = le.v1;
-    w->m1 = le.m1;
-    w->beta = le.beta;
-    w->gamma = le.gamma;
-    w->noise = le.beta_err == EDMI__ZERO ? EDMI__ZERO : dt * edmi__norm(rm) * le.beta_err;
-    for (i = 0; i < 3; i++) {
-        f[i] = dt * le.beta * rm[i];
-        w->rm[i] = le.rm_div == EDMI__ONE ? rm[i] : rm[i] / le.rm_div;
-        w->u[i] = le.u[i];
-    }
+    for (i = 0; i < 3; i++)
+        f[i] = dt * w->beta * w->rm[i];
+    if (rm_div != EDMI__ONE)
+        for (i = 0; i < 3; i++)
+            w->rm[i] /= rm_div;
     return EDMI_OK;
 }
 
