@@ -2041,11 +2041,12 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         for (i = 0; i < 3; i++)
             work->rhs[3 * a + i] = -work->rq[a][i] - h * work->rp[a][i];
     }
+    /* (a one-body capacity compiles the one-body solves alone) */
     if (nb == 1 && sys->n_links == 1 && EDMI__N_DAMPERS(sys) == 0) {
         st = edmi__solve_one_link(&work->lw[0], work->h[0], dt, work->rhs);
         if (st != EDMI_OK)
             return st;
-    } else if (nb == 1) {
+    } else if (EDMI_MAX_BODIES == 1 || nb == 1) {
         edmi_real g[9], x[3], k[9];
         edmi_real h = work->h[0];
         int j;

@@ -148,10 +148,11 @@ $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),$(eval $(call tgt_cap_rul
 # Build options (edmi.h, EDMI_WITH_*) on the Cortex-M4F, float, -Os: each feature alone
 # compiled out of the default build (an upper-case name X is -DEDMI_WITH_X=0; DAMPERS is
 # EDMI_MAX_DAMPERS=0), then the configurations the Makefile tests (FEAT_*), and coupling at a
-# one-body capacity (1 body, 2 links).
+# one-body capacity (1 body, 2 links), without and with the damper README's haptic recipe adds.
 TGT_OPTS := default MP LG LG_QUOTIENT GE PM PT HARMONIC QUARTIC NEO_HOOKE LJ INVERSE USER \
-            FIELD PORTS SCENE DAMPERS $(FEATURES) coupling-1
+            FIELD PORTS SCENE DAMPERS $(FEATURES) coupling-1 coupling-damper-1
 FEAT_coupling-1 = $(FEAT_coupling) -DEDMI_MAX_BODIES=1 -DEDMI_MAX_LINKS=2
+FEAT_coupling-damper-1 = $(filter-out -DEDMI_MAX_DAMPERS=0,$(FEAT_coupling-1)) -DEDMI_MAX_DAMPERS=1
 tgt_optdefs = $(if $(filter default,$(1)),,$(if $(filter DAMPERS,$(1)),-DEDMI_MAX_DAMPERS=0,\
                   $(if $(FEAT_$(1)),$(FEAT_$(1)),-DEDMI_WITH_$(1)=0)))
 $(TGT)/opt-m4f-float/%/edmi.o: edmi.c edmi.h
@@ -165,6 +166,7 @@ TGT_OPT_DESC_coupling := one PM virtual coupling: PM, harmonic, anchors and movi
     the guard (every other scheme and potential, the field, ports, scene loader, dampers out)
 TGT_OPT_DESC_conservative := MP and LG without the guard
 TGT_OPT_DESC_coupling-1 := coupling at a capacity of 1 body and 2 links
+TGT_OPT_DESC_coupling-damper-1 := coupling-1 with one damper (the README's haptic recipe)
 tgt_optdesc = $(strip $(if $(TGT_OPT_DESC_$(1)),$(TGT_OPT_DESC_$(1)),$(call tgt_optdefs,$(1))))
 
 TGT_CROSS_OBJS := $(foreach p,$(TGT_CROSS),$(TGT)/cross-$(p)/edmi.o $(TGT)/cross-$(p)/fw_min.elf)
