@@ -41,7 +41,7 @@
  *   Linear solves                 3x3, one link, two bodies, banded LU; the Newton update
  *   Newton                        scales, the solved test, the predictor multi-corrector
  *   The passivity guard           the change of H and its bound, the energy tank, the
- *                                 certificate, the rounding, impulse and drag, a step's end
+ *                                 certificate, the rounding, impulse, drag and stop, a step's end
  *   One attempt, the fallback and substeps
  *   The step                      edmi_step, edmi_residual, edmi_tangent
  *   Building a system, and scenes the validator, edmi_init, edmi_add_*, edmi_load_scene
@@ -2553,9 +2553,10 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
  *     values scaled by a power of two (exact), so that a system coming to rest stays
  *     certified with the same relative resolution;
  *  3. only if the tank cannot cover the rise: the guard moves the state (an impulse along a
- *     link, energy-aware rounding, a drag) to one whose rise it covers.
+ *     link, energy-aware rounding, a drag) to one whose rise it covers, one ordered list.
  * The subsections follow that order: the change of H and its bound, the tank, the
- * certificate, the rounding, impulse and drag, and the end of a step that applies them.
+ * certificate, the rounding, impulse, drag and stop, the moves, and the end of a step that applies
+ * them.
  * ======================================================================================== */
 
 static int edmi__guard_on(const edmi_params *p)
@@ -3356,16 +3357,15 @@ static EDMI__INLINE edmi_real edmi__comp_dk(const edmi__comp *c, int k)
  * |k2| <= s1/(2 s2), but at least EDMI__ROUND_MIN (81 pairs, energies interleaving ~80x
  * finer than s0) and at most EDMI__ROUND_MAX. A unit of a finer component is a smaller
  * momentum, so each moves the momentum by a few units of its largest component: J and L
- * change like a few roundings. Normally an impulse along a link has done the bulk (keeping
- * J) and k0 <= EDMI__ROUND_K0 finishes; the wide EDMI__ROUND_WIDE_K0 serves when no link
- * can take the impulse (a circular orbit about an anchor). */
+ * change like a few roundings. k0 <= EDMI__ROUND_K0 finishes almost every move; the wide
+ * EDMI__ROUND_WIDE_K0 serves when nothing lies that near (a circular orbit about an anchor). */
 #define EDMI__ROUND_MIN 1
 #define EDMI__ROUND_MAX 4
 #define EDMI__ROUND_K0 8
 #define EDMI__ROUND_WINDOW (EDMI_R(1.0) / EDMI_R(32.0))
 #define EDMI__ROUND_WIDE_K0 64
 /* The guard's time is counted, not searched for: each of the three rounding searches of
- * edmi__guard_moves tries at most EDMI__ROUND_BUDGET candidates (keeping the best it found
+ * the guard's moves tries at most EDMI__ROUND_BUDGET candidates (keeping the best it found
  * when they run out), and the last resort, which asks for any candidate below the
  * certificate, tries the 27 position variants with the finer components left where they
  * are: at most 3 EDMI__ROUND_BUDGET + 27 = 411 candidates an attempt, where there were 2,835
@@ -3645,7 +3645,7 @@ static void edmi__round_apply(edmi_workspace *work, const edmi__comp *c, int n, 
         work->p1[c[j].a][c[j].i] = c[j].p + (edmi_real)k[j] * c[j].u;
 }
 
-/* ---- impulse and drag ------------------------------------------------------------------- */
+/* ---- impulse, drag and stop ------------------------------------------------------------- */
 
 /* Change K by about `goal` with one impulse along the link that can best do it: equal and
  * opposite on a pair's two bodies (keeps L, J, C), radial on an anchored body (keeps J about
@@ -3702,6 +3702,7 @@ static int edmi__guard_impulse(const edmi_system *sys, edmi_workspace *work, edm
     }
     return 1;
 }
+
 
 /* The frame the fallback and the drag keep: the centre of mass's velocity L/M when L is
  * conserved (no anchor links, field or ports), else the anchors' rest frame (0). */
@@ -3906,11 +3907,6 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
  * lies there (a body at rest in its minimum), the certificate is all that is asked. */
 #define EDMI__GUARD_STRICT (EDMI_R(1.0) / EDMI_R(288230376151711744.0))
 
-/* After the search, if its working-precision estimate left the stored state a hair above the
- * certificate, step the finest picked component one unit towards zero, at most this often
- * (the last times the coarsest). */
-#define EDMI__GUARD_NUDGES 4
-
 /* The last move: every momentum set to the frame's (edmi__frame_velocity), Newton's positions
  * kept; K relative to the frame becomes 0. */
 static void edmi__guard_stop(const edmi_system *sys, edmi_workspace *work)
@@ -3925,53 +3921,33 @@ static void edmi__guard_stop(const edmi_system *sys, edmi_workspace *work)
     }
 }
 
-/* The moves of the guard where the tank cannot cover Newton's iterate (t not settled): the
- * bulk by an impulse along a link that keeps J, the rest by energy-aware rounding, a drag
- * where neither can. Leaves t describing the stored state. 0 on success (certified or not),
- * -1 if a moved position left the potentials' domain or the balance its range. */
-static int edmi__guard_moves(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
-                             edmi__aim *t, edmi_step_result *res)
-{
-    edmi__comp c[3];
-    int n = edmi__pick_comps(sys, work, c), r, fresh;
-    /* the bulk by an impulse that keeps J, when more than a couple of units are needed */
-    if ((n == 0 || edmi__abs(t->goal) > EDMI__HALF * edmi__abs(edmi__comp_dk(&c[0], 4))) &&
-        edmi__guard_impulse(sys, work, t->goal)) {
-        res->guard_action |= EDMI_GUARD_IMPULSE;
-        if (!edmi__reaim(sys, work, bal, t))
-            return -1;
-    }
-    r = edmi__settled(t) ? 1 : edmi__guard_round(sys, work, bal, t, EDMI__ROUND_K0, res);
-    if (r == 0)
-        r = edmi__guard_round(sys, work, bal, t, EDMI__ROUND_WIDE_K0, res);
-    /* with a coupled M the search's first-order model can miss: drag too, if the rounded
-     * state, re-evaluated (t still describes the state before the rounding), is not
-     * certified; t then describes the stored state unless the drag moves it */
-    fresh = r > 0 && EDMI__COUPLED(sys);
-    if (fresh && !edmi__reaim(sys, work, bal, t))
-        return -1;
-    if ((r == 0 || EDMI__COUPLED(sys)) && !edmi__certified(t) &&
-        edmi__guard_drag(sys, work, t->goal)) {
-        res->guard_action |= EDMI_GUARD_DRAG;
-        if (!edmi__reaim(sys, work, bal, t))
-            return -1;
-        r = edmi__guard_round(sys, work, bal, t, EDMI__ROUND_K0, res);
-        fresh = 0;
-    }
-    if (r < 0 || (!fresh && !edmi__reaim(sys, work, bal, t)))
-        return -1;
-    /* last resort, e.g. a position's rounding larger than the kinetic energy left: any
-     * candidate below the certificate, however far from the target (27 at most) */
-    if (!edmi__certified(t) && (edmi__guard_round(sys, work, bal, t, -EDMI__ROUND_WIDE_K0, res) < 0 ||
-                                !edmi__reaim(sys, work, bal, t)))
-        return -1;
-    return 0;
-}
+/* The guard's moves where the tank cannot cover Newton's iterate, in the order they are
+ * tried (docs/guard.md, "Moves"). Each acts only while the step is not certified (the
+ * rounding: not settled), aims at t->goal, and is certified again once it acted:
+ *   HOLD     no position moved: each momentum component no larger than it was, with the sign
+ *            the scheme gave it: K_n+1 <= K_n (a diagonal M), V and the works unchanged
+ *            exactly (a body at a turning point, or held a few units in the last place off an
+ *            anchor away from the origin, whose spring pulls on p while q cannot move by less
+ *            than a unit); q_n+1 = q_n stays the scheme's position at a turning point;
+ *   IMPULSE  an impulse along the link that can best take it (keeps L, J and C; J about the
+ *            anchor on an anchor link), where more than a couple of units are needed: the
+ *            bulk of a real rise (MP or LG under EDMI_GUARD_ON), which a drag would take
+ *            with J;
+ *   ROUND    energy-aware rounding of the momenta (and of one body's position) within
+ *            EDMI__ROUND_K0 units of the aim, else within EDMI__ROUND_WIDE_K0;
+ *   DRAG     a drag relative to the frame (keeps L, not J), then the rounding again;
+ *   CLAMPED  any rounding candidate below the certificate, however far from the aim (a
+ *            position's rounding larger than the kinetic energy left);
+ *   STOP     every momentum to the frame's, Newton's positions kept.
+ * At the bottom of the range (scaled) the search's working-precision model of the candidates'
+ * energies underflows, and the fallback's quick certificate (quick) counts no search: there
+ * HOLD and STOP alone. What each move buys, over 10^6 steps of `make orbits`' scenes in both
+ * precisions, with the default tank and tank_cap = 0, and on the coupled-mass scenes of
+ * tests/mass_spd.c, is in docs/guard.md; four one-unit nudges after the searches, tried
+ * before, bought nothing measurable there. */
+enum { EDMI__MOVE_HOLD, EDMI__MOVE_IMPULSE, EDMI__MOVE_ROUND, EDMI__MOVE_DRAG,
+       EDMI__MOVE_CLAMPED, EDMI__MOVE_STOP, EDMI__MOVES };
 
-/* The passivity guard on Newton's iterate work->p1 (bal: dv and w filled, in its scaled units;
- * cap: the tank's capacity after the step). Certifies H_n+1 - H_n - work <= T_n exactly,
- * moving the state only where the tank cannot cover the step, and sets res->tank to T_n+1 =
- * min(cap, T_n - (H_n+1 - H_n - work)), rounded down. */
 /* Whether the step moved nothing: every body's q_n+1 is q_n and no anchor moves, so V, the
  * field's energy and the works are exactly what they were. */
 static int edmi__held(const edmi_system *sys, const edmi_workspace *work)
@@ -3985,14 +3961,81 @@ static int edmi__held(const edmi_system *sys, const edmi_workspace *work)
     return 1;
 }
 
+/* Each momentum component no larger than it was at the start of the step. */
+static void edmi__guard_hold(const edmi_system *sys, edmi_workspace *work)
+{
+    int a, i;
+    for (a = 0; a < sys->n_bodies; a++)
+        for (i = 0; i < 3; i++) {
+            edmi_real p0 = edmi__abs(sys->body[a].p[i]);
+            if (edmi__abs(work->p1[a][i]) > p0)
+                work->p1[a][i] = work->p1[a][i] < EDMI__ZERO ? -p0 : p0;
+        }
+}
+
+/* Move `move` of the list on the state t describes (search: the rounding searches may run).
+ * 1 if it acted (the caller certifies again), 0 if it does not apply, -1 if a moved position
+ * left the potentials' domain or the balance its range. */
+static int edmi__guard_move(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
+                            edmi__aim *t, int move, int search, edmi_step_result *res)
+{
+    edmi__comp c[3];
+    int r, n;
+    switch (move) {
+    case EDMI__MOVE_HOLD:
+        if (!edmi__held(sys, work))
+            return 0;
+        edmi__guard_hold(sys, work);
+        res->guard_action |= EDMI_GUARD_HOLD;
+        return 1;
+    case EDMI__MOVE_IMPULSE: /* the bulk, when more than a couple of units are needed */
+        if (!search)
+            return 0;
+        n = edmi__pick_comps(sys, work, c);
+        if (n > 0 && !(edmi__abs(t->goal) > EDMI__HALF * edmi__abs(edmi__comp_dk(&c[0], 4))))
+            return 0;
+        if (!edmi__guard_impulse(sys, work, t->goal))
+            return 0;
+        res->guard_action |= EDMI_GUARD_IMPULSE;
+        return 1;
+    case EDMI__MOVE_ROUND:
+        if (!search)
+            return 0;
+        r = edmi__guard_round(sys, work, bal, t, EDMI__ROUND_K0, res);
+        return r != 0 ? r : edmi__guard_round(sys, work, bal, t, EDMI__ROUND_WIDE_K0, res);
+    case EDMI__MOVE_DRAG:
+        if (!search || edmi__certified(t) || !edmi__guard_drag(sys, work, t->goal))
+            return 0;
+        res->guard_action |= EDMI_GUARD_DRAG;
+        if (!edmi__reaim(sys, work, bal, t))
+            return -1;
+        if (!edmi__settled(t) && edmi__guard_round(sys, work, bal, t, EDMI__ROUND_K0, res) < 0)
+            return -1;
+        return 1;
+    case EDMI__MOVE_CLAMPED:
+        if (!search || edmi__certified(t))
+            return 0;
+        return edmi__guard_round(sys, work, bal, t, -EDMI__ROUND_WIDE_K0, res);
+    default: /* EDMI__MOVE_STOP: a drag all the way (reported as one) */
+        if (edmi__certified(t))
+            return 0;
+        edmi__guard_stop(sys, work);
+        res->guard_action |= EDMI_GUARD_DRAG;
+        return 1;
+    }
+}
+
+/* The passivity guard on Newton's iterate work->p1 (bal: dv and w filled, in its scaled units;
+ * cap: the tank's capacity after the step). Certifies H_n+1 - H_n - work <= T_n exactly,
+ * moving the state only where the tank cannot cover the step, and sets res->tank to T_n+1 =
+ * min(cap, T_n - (H_n+1 - H_n - work)), rounded down. */
 static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edmi__balance *bal,
                                edmi_real cap, int quick, edmi_step_result *res)
 {
-    edmi__comp c[3];
     edmi__dw h_newton;
     edmi__aim t;
     edmi_real after;
-    int n, k[3], i;
+    int m;
     t.tank = edmi__up2(bal, edmi__tank_n(sys));
     t.strict = t.tol = t.lift = EDMI__ZERO;
     if (!edmi__reaim(sys, work, bal, &t))
@@ -4008,47 +4051,9 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
         /* leave a little in the tank: the next steps' noise then rarely needs a move */
         t.lift = t.tol = edmi__up2(bal, cap) * EDMI__TANK_LIFT;
         t.goal = t.hi - t.strict - t.lift;
-        if (edmi__held(sys, work)) {
-            /* no position moved: the rise is all K's (a body at a turning point, or resting a
-             * few units in the last place off an anchor away from the origin, whose spring
-             * pulls on p while q cannot move by less than a unit). Each momentum component
-             * no larger than it was, with the sign the scheme gave it: K_n+1 <= K_n (a
-             * diagonal M) and V and the works unchanged, exactly; q_n+1 = q_n stays the
-             * scheme's position for it at a turning point (p_n+1 = -p_n) */
-            int a;
-            for (a = 0; a < sys->n_bodies; a++)
-                for (i = 0; i < 3; i++) {
-                    edmi_real p0 = edmi__abs(sys->body[a].p[i]);
-                    if (edmi__abs(work->p1[a][i]) > p0)
-                        work->p1[a][i] = work->p1[a][i] < EDMI__ZERO ? -p0 : p0;
-                }
-            res->guard_action |= EDMI_GUARD_HOLD;
-            if (!edmi__reaim(sys, work, bal, &t))
-                return EDMI_ERR_PASSIVITY;
-        }
-        /* at the bottom of the range (scaled) the search's working-precision model of the
-         * candidates' energies underflows: only the last move applies; so too for the
-         * fallback's quick certificate (quick), whose time the bound counts */
-        if (bal->scale == EDMI__ONE && !quick && !edmi__settled(&t) &&
-            edmi__guard_moves(sys, work, bal, &t, res) < 0)
-            return EDMI_ERR_PASSIVITY;
-        for (i = 0; bal->scale == EDMI__ONE && !quick && i < EDMI__GUARD_NUDGES &&
-                    !edmi__settled(&t);
-             i++) {
-            n = edmi__pick_comps(sys, work, c);
-            if (n == 0)
-                break;
-            k[0] = k[1] = k[2] = 0;
-            k[i < 2 ? n - 1 : 0] = EDMI__PK(&c[i < 2 ? n - 1 : 0]) > EDMI__ZERO ? -1 : 1;
-            edmi__round_apply(work, c, n, k);
-            res->guard_action |= EDMI_GUARD_ROUND;
-            if (!edmi__reaim(sys, work, bal, &t))
-                return EDMI_ERR_PASSIVITY;
-        }
-        if (!edmi__certified(&t)) {
-            edmi__guard_stop(sys, work);
-            res->guard_action |= EDMI_GUARD_DRAG;
-            if (!edmi__reaim(sys, work, bal, &t))
+        for (m = 0; m < EDMI__MOVES && !edmi__settled(&t); m++) {
+            int r = edmi__guard_move(sys, work, bal, &t, m, bal->scale == EDMI__ONE && !quick, res);
+            if (r < 0 || (r > 0 && !edmi__reaim(sys, work, bal, &t)))
                 return EDMI_ERR_PASSIVITY;
         }
         res->diss_guard = edmi__down2(bal, edmi__dw_real(edmi__dw_sub(h_newton, t.h)));
