@@ -166,7 +166,7 @@ TGT_OPT_DESC_coupling := one PM virtual coupling: PM, harmonic, anchors and movi
     the guard (every other scheme and potential, the field, ports, scene loader, dampers out)
 TGT_OPT_DESC_conservative := MP and LG without the guard
 TGT_OPT_DESC_coupling-1 := coupling at a capacity of 1 body and 2 links
-TGT_OPT_DESC_coupling-damper-1 := coupling-1 with one damper (the README's haptic recipe)
+TGT_OPT_DESC_coupling-damper-1 := coupling-1 with one damper, as the haptic recipe of the README
 tgt_optdesc = $(strip $(if $(TGT_OPT_DESC_$(1)),$(TGT_OPT_DESC_$(1)),$(call tgt_optdefs,$(1))))
 
 TGT_CROSS_OBJS := $(foreach p,$(TGT_CROSS),$(TGT)/cross-$(p)/edmi.o $(TGT)/cross-$(p)/fw_min.elf)
