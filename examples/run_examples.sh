@@ -4,7 +4,12 @@
 # Runs edmi-sim on examples/scenes/{neo_hookean,lj_two_body,solar_system}.scene, JOBS at a
 # time (longest first), and prints the rows in a fixed order. SIM_FULL=1 adds the ten-body
 # tol_Q study (LG quotient, alternates Janz/GE/PM, tol_Q 1e-4 and 1e-6: 6 more long runs).
-# Exit status non-zero if any run failed; its message is printed under the table.
+# Under the table, one line adds up the independent H check of every stored state of every
+# run (edmi-sim --h-check, tests/passive.c): the steps checked, those decided in __float128,
+# and the steps where H rose by more than the work and the energy tank supplied, which must
+# be 0 where the guard runs (GE, PM, PT; MP and LG have no such bound).
+# Exit status non-zero if any run failed (its message is printed under the table), a run's H
+# was not checked on every step, or a guarded run's H rose beyond the work and the tank.
 set -u
 sim=${1:?usage: run_examples.sh EDMI_SIM [JOBS]}
 jobs=${2:-2}
@@ -48,7 +53,7 @@ export sim out total
 printf '%s\n' "${runs[@]}" | xargs -r -P "$jobs" -L 1 bash -c '
     id=$1; shift
     a=$(date +%s.%N)
-    "$sim" "$@" --row --quiet >"$out/$id.row" 2>"$out/$id.err"
+    "$sim" "$@" --row --quiet --h-check "$out/$id.h" >"$out/$id.row" 2>"$out/$id.err"
     rc=$?
     b=$(date +%s.%N)
     scene=${1##*/}
@@ -78,6 +83,16 @@ echo "dH = |H - H0|/|H0| (max over all steps, and the signed final value); dJ, d
 echo "max of |J - J0|, |L - L0|, |C(t) - C0| (absolute; n/a where anchors break the invariant)."
 echo "LG-Q/ALT TOL: LG as the paper's quotient, with the alternate force ALT below tol_Q = TOL."
 echo "Spring and LJ: LG is LG-Q/Janz 1e-08 (the paper's default); ten-body: LG is the closed form."
+# The H check over all runs: "steps N checked C rose R beyond E quad Q guard on|off" per run.
+hline=$(for id in $(order); do cat "$out/$id.h" 2>/dev/null || echo "missing $id"; done | awk '
+    $1 != "steps" { bad++; next }
+    { n += $2; c += $4; q += $10; if ($2 != $4) bad++
+      if ($12 == "on") { gn += $2; ge += $8 } else { un += $2; ue += $8 } }
+    END { printf "H check (tests/passive.c, on %d of %d steps, %d of them in __float128): H rose beyond the work and the tank on %d of %d guarded steps (GE, PM, PT), %d of %d unguarded (MP, LG)%s\n", c, n, q, ge, gn, ue, un, bad || ge ? ": FAILED" : ""
+          exit (bad > 0 || ge > 0) }')
+hok=$?
+echo "$hline"
+[ "$hok" = 0 ] || failed=1
 # Every effect at once (field, dampers, a force port): the per-step discrete energy balance.
 bal=$("$sim" "$S/hanging_chain.scene" --energy-balance --quiet | sed -n 's/^balance *//p')
 echo "energy balance, hanging_chain.scene (PM, 5000 steps, field + 6 dampers + force port):"

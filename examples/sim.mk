@@ -61,8 +61,9 @@ $(HOST)/sim_scene.o: $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.h | $(HOST)
 $(HOST)/sim_edmi.o: edmi.c edmi.h | $(HOST)
 	$(CC) $(LIBFLAGS) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -c $< -o $@
 
-# edmi-sim evaluates H of every stored state in tp_q with tests/passive.c (the soak's
-# check, independent of the library's arithmetic) for its "H steps" line.
+# edmi-sim checks H of every stored state with tests/passive.c (the soak's check, independent
+# of the library's arithmetic) for its "H steps" line and --h-check: in double-word arithmetic
+# where its error bound decides, in tp_q (__float128) where it does not.
 SIM_PASSIVE := tests/passive.c tests/passive.h examples/haptic_hand.h
 $(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o \
 		$(SIM_PASSIVE) edmi.h | $(HOST)
@@ -74,16 +75,24 @@ $(SIM_TEST): $(SIM_SRC)/test_scene.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HO
 	    $(HOST)/sim_edmi.o -o $@ $(LDLIBS)
 
 # edmi-sim --ref's tests (examples/sim/test_ref.sh) and its summary's (test_summary.sh), with a
-# double and a float edmi-sim built here for them whatever EDMI_REAL is, and --emit-c's
-# (examples/sim/test_emit.sh).
-SIM_REF_BINS := $(BUILD)/simref/double/edmi-sim $(BUILD)/simref/float/edmi-sim
+# double and a float edmi-sim built here for them whatever EDMI_REAL is, --emit-c's
+# (examples/sim/test_emit.sh), and the double-word H check's decisions against __float128's
+# (examples/sim/test_hcheck.c), both precisions.
+SIM_REF_BINS := $(BUILD)/simref/double/edmi-sim $(BUILD)/simref/float/edmi-sim \
+                $(BUILD)/simref/double/test_hcheck $(BUILD)/simref/float/test_hcheck
 $(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h \
 		$(SIM_PASSIVE) edmi.c edmi.h
 	mkdir -p $(@D)
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* $(SIM_CAP) -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c \
 	    tests/passive.c edmi.c \
 	    -o $@ $(LDLIBS)
-SIM_REF_TESTS := $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
+$(BUILD)/simref/%/test_hcheck: $(SIM_SRC)/test_hcheck.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h \
+		$(SIM_PASSIVE) edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* $(SIM_CAP) -I. $(SIM_SRC)/test_hcheck.c $(SIM_SRC)/scene.c \
+	    tests/passive.c edmi.c -o $@ $(LDLIBS)
+SIM_REF_TESTS := $(foreach r,double float,'$(BUILD)/simref/$(r)/test_hcheck examples/scenes') \
+                 $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
                  $(foreach r,double float,'bash $(SIM_SRC)/test_summary.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
                  'bash $(SIM_SRC)/test_emit.sh $(BUILD)/simref/double/edmi-sim "$(CC)"'
 

@@ -21,11 +21,18 @@
  * bits, ~1e-18 of the terms). The public interface (passive.h) reports in long double:
  * values are rounded once at the end (binary128 to x87 keeps the sign and the exponent
  * range), and every comparison of the inequality is made in tp_q before that (tp_delta's
- * broken and unresolved). */
+ * broken and unresolved).
+ *
+ * Cost. Soft binary128 costs about as much as a ten-body step; tp_h_dw and tp_delta_dw (the
+ * fast path, below) give tp_delta_h's decisions from binary64 double-word arithmetic with a
+ * proved error bound wherever that bound settles them, for edmi-sim's check of every step. */
 #include "passive.h"
 
 #include <float.h>
 #include <string.h>
+#if defined(__SIZEOF_FLOAT128__) && defined(__x86_64__) /* the fast path's flags (TP_FAST) */
+#include <fenv.h>
+#endif
 
 #include "../examples/haptic_hand.h" /* hh_sin: a sine without libm */
 
@@ -48,6 +55,17 @@ typedef long double tp_q;
 #endif
 
 #define TP_ERR_ULPS ((tp_q)16.0)
+
+/* The fast path (tp_delta_dw): binary64 double-word arithmetic, round to nearest, no excess
+ * precision (SSE2 on x86-64), and the floating-point status flags of <fenv.h> to see that no
+ * operation underflowed or overflowed; where tp_q is __float128 only (elsewhere tp_q is fast
+ * already, or double itself). */
+#if TP_QUAD && FLT_EVAL_METHOD == 0 && DBL_MANT_DIG == 53 && defined(FE_UNDERFLOW) && \
+    defined(FE_OVERFLOW) && defined(FE_INVALID) && defined(FE_DIVBYZERO) && defined(FE_TONEAREST)
+#define TP_FAST 1
+#else
+#define TP_FAST 0
+#endif
 
 const char *tp_q_name(void) { return TP_QUAD ? "__float128" : "long double"; }
 
@@ -388,7 +406,408 @@ int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_res
     out->broken = diff > q.err;
     out->unresolved = !(diff > q.err) && !(diff < -q.err);
     out->rose = q.dh > q.err;
+    out->quad = 1;
     return 1;
+}
+
+/* ---- the fast path: tp_delta_h's decisions in double-word arithmetic -------------------------
+ * tp_delta_h spends nearly all its time in libgcc's soft binary128 (on the ten bodies about
+ * as much as the step itself). tp_h_dw evaluates H of one stored state term by term in
+ * binary64 double-word arithmetic (a real held as hi + lo, about 106 bits) with an a-priori
+ * bound on its error; tp_delta_dw takes two of them, one step's works and tanks, and gives
+ * tp_delta_h's three decisions where that bound settles them. A run evaluates each state
+ * once (the end of one step is the start of the next); tp_delta_h_fast calls tp_delta_h where
+ * tp_delta_dw does not decide.
+ *
+ * What is decided. tp_delta_h decides on its computed dh_q, diff_q = dh_q - w_q and err_q:
+ * broken = diff_q > err_q, unresolved = |diff_q| <= err_q, rose = dh_q > err_q. Its own
+ * rounding, |dh_q - dh| and |diff_q - diff| for the exact dh and diff of the stored numbers,
+ * is within 16 eps (mag + |work_ext| + |work_anchor| + |T0| + |T1|) (its comment: w's three
+ * roundings and the subtraction's are a few units of tp_q of these), and so is |err_q|; call
+ * E a bound on that. With this path's dh_f and diff_f within e of dh and diff: diff_f > e + 2E
+ * gives diff > 2E, so diff_q > E >= |err_q| (broken, and resolved); diff_f < -(e + 2E) gives
+ * diff_q < -E (not broken, resolved); dh_f > e + 2E gives dh_q > E (rose), dh_f < -(e + 2E)
+ * gives dh_q < -E (not rose). Anything between goes to tp_delta_h. The threshold T >= e + 2E
+ * is compared with the double-word values through the sign of diff_f -+ T by DWPlusFP, whose
+ * relative error (below) keeps the sign of the exact difference.
+ *
+ * The operations (u = 2^-53) and their relative errors, from Joldes, Muller, Popescu, "Tight
+ * and rigorous error bounds for basic building blocks of double-word arithmetic", ACM TOMS
+ * 44(2), 2017 (valid without underflow and overflow): 2Sum, Fast2Sum and Dekker's TwoProd
+ * (Veltkamp's split) exact; DWPlusFP 2u^2; AccurateDWPlusDW 3u^2 + 13u^3 < 3.01u^2;
+ * DWTimesFP1 1.5u^2 + 4u^3 < 2u^2; DWTimesDW1 7u^2 (5u^2: Muller and Rideau, ACM TOMS 48(1),
+ * 2022); DWDivFP3 3u^2; DWDivDW2 15u^2 + 56u^3 < 16u^2. The square root, one Newton step from
+ * y = RN(sqrt(xh)) (Dekker's): y^2 is within (1 +- u)^2 of xh, so xh - RN(y^2) is exact
+ * (Sterbenz); subtracting TwoProd's low part errs by u |xh - y^2| <= 2.01u^2 xh, adding xl by
+ * u (3.01u xh) <= 3.01u^2 xh, the quotient by 2y (exact) by u |r|/2y <= 1.51u^2 y, and the
+ * Newton step's own error is (y - sqrt(x))^2 / 2y <= (1.5u)^2 xh / 2y <= 1.13u^2 y: in all
+ * (2.01 + 3.01) / 2 + 1.51 + 1.13 < 5.2u^2 of sqrt(x), taken as 6u^2. Relative errors
+ * compose as (1 + a)(1 + b): their sum and a product of order u^4 (< 2^-100 u^2), which
+ * rounding each constant up absorbs; so do the few units of u by which the magnitudes M,
+ * evaluated in plain double from the hi parts, may fall short of the exact ones.
+ *
+ * Underflow and overflow: tp_h_dw runs with the status flags of <fenv.h> cleared, and a
+ * raised FE_UNDERFLOW, FE_OVERFLOW, FE_INVALID or FE_DIVBYZERO (or a rounding mode other than
+ * to nearest) marks its value unusable (then tp_delta_h decides). Under IEEE 754's default
+ * handling a result that is tiny and inexact raises the underflow flag, so without it every
+ * operation returned what it would with an unbounded exponent range, where the bounds above
+ * hold (a tiny result that is exact is the same in both). Its results are stored before the
+ * flags are read and the flag functions are called through volatile pointers, so that the
+ * compiler moves no operation across them (GCC does not honour FENV_ACCESS). tp_delta_dw
+ * itself only adds (2Sum, Fast2Sum and the DW sums, exact or normal where a result is tiny)
+ * and forms T by one product, kept above 2^-960 (normal).
+ *
+ * The terms of H(s), each with its error against the exact value in units of u^2 times a
+ * magnitude M that the computed term never exceeds in absolute value:
+ *  - a body's |p|^2/2m: three TwoProd squares (exact), two AccurateDWPlusDW of non-negative
+ *    terms, over 2m (DWDivFP3): 2 (3.01) + 3 < 9.1 of M = the term itself.
+ *  - the field's -m g_i q_i (TwoProd of m and g_i, exact; DWTimesFP1): 2 of M = |m g_i q_i|.
+ *  - a link vector: 2Sum per component, exact. Its squared length s: three DWTimesDW1
+ *    squares and two AccurateDWPlusDW of non-negative terms, 7 + 2 (3.01) < 13.1u^2
+ *    relative; its length d = sqrt(s): 13.1/2 + 6 < 13u^2 relative.
+ *  - harmonic, b = 0: a/2 s (DWTimesFP1, a/2 exact), 13.1 + 2 < 16 of M = |a| s/2.
+ *  - harmonic: x = d - b (DWPlusFP) within 13u^2 d + 2u^2 |d - b| <= 15.1u^2 D of x*,
+ *    D = d + |b|; x^2 (DWTimesDW1), times a/2 (DWTimesFP1): the error is at most
+ *    |a|/2 (|x - x*| |x + x*| + 9.01u^2 x^2) <= |a|/2 (15.1 (3) + 9.01)u^2 D xe < 28 of
+ *    M = |a| D xe, xe = |x| + 2^-40 D >= max(|x|, |x*|) + |x - x*|.
+ *  - quartic: x = s - b^2 (b^2 by TwoProd; AccurateDWPlusDW) within 13.1u^2 s + 3.01u^2
+ *    |s - b^2| <= 16.2u^2 S of x*, S = s + b^2; then as the harmonic one, with a/4:
+ *    |a|/4 (16.2 (3) + 9.01) < 15 of M = |a| S xe, xe = |x| + 2^-40 S.
+ *  - neo-Hookean (d > 0, b >= 0, else tp_delta_h): a x^2 (d + 2b) / 6d, x as the harmonic
+ *    one's; (d + 2b)/d within 13 + 2 + 13 = 28u^2 of its exact value (d + 2b, DWPlusFP, does
+ *    not cancel for b >= 0), the two products, the factor a, 6d and the quotient 7 + 7 + 2 +
+ *    2 + 16 = 34u^2: |a| (d + 2b)/6d (15.1 (3) + 62.1) u^2 D xe < 18 of
+ *    M = |a| D xe (d + 2b)/d.
+ *  - Lennard-Jones (d > 0): w = b^2/s (TwoProd, DWDivDW2) within 13.1 + 16 < 29.2u^2,
+ *    t = w^3 (two DWTimesDW1) within 3 (29.2) + 14 < 102u^2, t - 1 (DWPlusFP) within
+ *    102u^2 t + 2u^2 |t - 1|; the product and 4a (7 + 2): the error is at most
+ *    4 |a| (102 + 102 + 2 + 9.01)u^2 t (t + 1) < 54 of M = 16 |a| t (t + 1).
+ *  - inverse (d > 0): -a/d (DWDivDW2) within 13 + 16 < 30 of M = |a|/d.
+ * H(s) is the sum of its n terms by AccurateDWPlusDW, each addition erring by 3.01u^2 of a
+ * partial sum, itself at most the sum of the M's (to a factor 1 + 3.01u^2 per addition): its
+ * error is at most (54 + 3.01 n) u^2 M(s), M(s) the sum of its terms' M. Then dh = H(s1) -
+ * H(s0) adds 3.01u^2 (M(s0) + M(s1)), w = work_ext + work_anchor + T0 - T1 (2Sum, two
+ * DWPlusFP) errs by 4.01u^2 M_w, M_w = |work_ext| + |work_anchor| + |T0| + |T1|, and
+ * diff = dh - w by 3.01u^2 of all: e <= (64.1 + 3.01 n) u^2 M_all, n the larger count and
+ * M_all = M(s0) + M(s1) + M_w.
+ *
+ * tp_delta_h's bound is 16 (2^-112) (mag + |work_ext| + |work_anchor| + |T0| + |T1|), its mag
+ * summing tp_pot's magnitude of each link in both states (at most 32 of that link's M here:
+ * the harmonic's 4 |a| xe D + 4 |V| is 6 of it, 12 for b = 0, quartic 5, neo-Hookean 2 + 8/6,
+ * LJ 16, inverse 8), 8 |p1 - p0| (|p1| + |p0|)/2m per body, at most 16 of K(s0) + K(s1) (since
+ * |p1 - p0| (|p1| + |p0|) <= 2 (p1^2 + p0^2)), and the field's 8 |m g_i (q1_i - q0_i)|, at
+ * most 8 of the two states' M: so E = 2^-108 (32) M_all = 8u^2 M_all, and
+ * T = (96 + 4n) u^2 M_all >= (64.1 + 3.01 n + 16) u^2 M_all, the difference covering the
+ * rounding of M_all and of T itself. On the ten bodies (n = 55) T is 3.9e-30 of M_all, where
+ * one step changes the stored states' H by 1e-25 of it and more (measured; LG's steps are
+ * the closest). A step whose dH - W the guard's tank took up to its last unit, or a scene at
+ * rest (dH = 0), goes to tp_delta_h. */
+#if TP_FAST
+typedef struct tp_dw {
+    double hi, lo;
+} tp_dw;
+
+static int (*volatile tp_fe_clear)(int) = feclearexcept;
+static int (*volatile tp_fe_test)(int) = fetestexcept;
+static int (*volatile tp_fe_get)(fexcept_t *, int) = fegetexceptflag;
+static int (*volatile tp_fe_set)(const fexcept_t *, int) = fesetexceptflag;
+#define TP_FE_BAD (FE_UNDERFLOW | FE_OVERFLOW | FE_INVALID | FE_DIVBYZERO)
+
+static double tp_absd(double x) { return x < 0.0 ? -x : x; }
+
+static tp_dw tp_dw_of(double x)
+{
+    tp_dw r;
+    r.hi = x;
+    r.lo = 0.0;
+    return r;
+}
+
+static tp_dw tp_dw_neg(tp_dw x)
+{
+    x.hi = -x.hi;
+    x.lo = -x.lo;
+    return x;
+}
+
+/* a + b exactly (2Sum). */
+static tp_dw tp_two_sum(double a, double b)
+{
+    tp_dw r;
+    double a1, b1;
+    r.hi = a + b;
+    a1 = r.hi - b;
+    b1 = r.hi - a1;
+    r.lo = (a - a1) + (b - b1);
+    return r;
+}
+
+/* a + b exactly, |a| >= |b| (Fast2Sum). */
+static tp_dw tp_fast_two_sum(double a, double b)
+{
+    tp_dw r;
+    r.hi = a + b;
+    r.lo = b - (r.hi - a);
+    return r;
+}
+
+/* a b exactly (Dekker's TwoProd, split by 2^27 + 1). */
+static tp_dw tp_two_prod(double a, double b)
+{
+    tp_dw r;
+    double ca = 134217729.0 * a, cb = 134217729.0 * b;
+    double ah = ca - (ca - a), al = a - ah, bh = cb - (cb - b), bl = b - bh;
+    r.hi = a * b;
+    r.lo = ((ah * bh - r.hi) + ah * bl + al * bh) + al * bl;
+    return r;
+}
+
+static tp_dw tp_dw_add(tp_dw x, tp_dw y) /* AccurateDWPlusDW */
+{
+    tp_dw s = tp_two_sum(x.hi, y.hi), t = tp_two_sum(x.lo, y.lo), v;
+    v = tp_fast_two_sum(s.hi, s.lo + t.hi);
+    return tp_fast_two_sum(v.hi, t.lo + v.lo);
+}
+
+static tp_dw tp_dw_add_d(tp_dw x, double y) /* DWPlusFP */
+{
+    tp_dw s = tp_two_sum(x.hi, y);
+    return tp_fast_two_sum(s.hi, x.lo + s.lo);
+}
+
+static tp_dw tp_dw_mul(tp_dw x, tp_dw y) /* DWTimesDW1 */
+{
+    tp_dw c = tp_two_prod(x.hi, y.hi);
+    return tp_fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
+}
+
+static tp_dw tp_dw_mul_d(tp_dw x, double y) /* DWTimesFP1 */
+{
+    tp_dw c = tp_two_prod(x.hi, y), t = tp_fast_two_sum(c.hi, x.lo * y);
+    return tp_fast_two_sum(t.hi, t.lo + c.lo);
+}
+
+static tp_dw tp_dw_div_d(tp_dw x, double y) /* DWDivFP3 */
+{
+    double th = x.hi / y;
+    tp_dw p = tp_two_prod(th, y);
+    return tp_fast_two_sum(th, (((x.hi - p.hi) - p.lo) + x.lo) / y);
+}
+
+static tp_dw tp_dw_div(tp_dw x, tp_dw y) /* DWDivDW2 */
+{
+    double th = x.hi / y.hi;
+    tp_dw r = tp_dw_mul_d(y, th);
+    return tp_fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
+}
+
+/* sqrt(x), x >= 0: one Newton step from sqrt(x.hi); 0 exactly for x = 0. */
+static tp_dw tp_dw_sqrt(tp_dw x)
+{
+    double y;
+    tp_dw p;
+    if (!(x.hi > 0.0))
+        return tp_dw_of(0.0);
+    y = __builtin_sqrt(x.hi);
+    p = tp_two_prod(y, y);
+    return tp_fast_two_sum(y, (((x.hi - p.hi) - p.lo) + x.lo) / (2.0 * y));
+}
+
+/* The sign of x - y, exactly (DWPlusFP's relative error is below 1). */
+static int tp_dw_above(tp_dw x, double y) { return tp_dw_add_d(x, -y).hi > 0.0; }
+
+static int tp_dw_below(tp_dw x, double y) { return tp_dw_add_d(x, -y).hi < 0.0; }
+
+/* Link j's squared length in state s (the link vector exact, by 2Sum). */
+static tp_dw tp_link_sq_dw(const edmi_system *s, int j)
+{
+    const edmi_link *lk = &s->link[j];
+    const edmi_real *xa = s->body[lk->a].q;
+    const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : s->body[lk->b].q;
+    tp_dw r = tp_two_sum((double)xa[0], -(double)xb[0]), sq = tp_dw_mul(r, r);
+    int i;
+    for (i = 1; i < 3; i++) {
+        r = tp_two_sum((double)xa[i], -(double)xb[i]);
+        sq = tp_dw_add(sq, tp_dw_mul(r, r));
+    }
+    return sq;
+}
+
+/* V of a built-in potential at the squared length s, and its magnitude *mag (the comment
+ * above); 0 where tp_pot does not evaluate it (d = 0 where V divides by d) or the bound does
+ * not cover it (a neo-Hookean b < 0). */
+static int tp_pot_dw(const edmi_potential *p, tp_dw s, tp_dw *v, double *mag)
+{
+    double a = (double)p->a, b = (double)p->b, big, xe;
+    tp_dw d, x, t;
+    edmi_potential bp;
+    switch (p->kind) {
+    case EDMI_POT_HARMONIC:
+        if (b == 0.0) {
+            *v = tp_dw_mul_d(s, 0.5 * a);
+            *mag = 0.5 * tp_absd(a) * s.hi;
+            return 1;
+        }
+        d = tp_dw_sqrt(s);
+        x = tp_dw_add_d(d, -b);
+        big = d.hi + tp_absd(b);
+        xe = tp_absd(x.hi) + 0x1p-40 * big;
+        *v = tp_dw_mul_d(tp_dw_mul(x, x), 0.5 * a);
+        *mag = tp_absd(a) * big * xe;
+        return 1;
+    case EDMI_POT_QUARTIC:
+        x = tp_dw_add(s, tp_dw_neg(tp_two_prod(b, b)));
+        big = s.hi + b * b;
+        xe = tp_absd(x.hi) + 0x1p-40 * big;
+        *v = tp_dw_mul_d(tp_dw_mul(x, x), 0.25 * a);
+        *mag = tp_absd(a) * big * xe;
+        return 1;
+    case EDMI_POT_NEO_HOOKE:
+        if (!(s.hi > 0.0) || !(b >= 0.0))
+            return 0;
+        d = tp_dw_sqrt(s);
+        x = tp_dw_add_d(d, -b);
+        big = d.hi + b;
+        xe = tp_absd(x.hi) + 0x1p-40 * big;
+        t = tp_dw_mul(tp_dw_mul(x, x), tp_dw_add_d(d, 2.0 * b));
+        *v = tp_dw_div(tp_dw_mul_d(t, a), tp_dw_mul_d(d, 6.0));
+        *mag = tp_absd(a) * big * xe * ((d.hi + 2.0 * b) / d.hi);
+        return 1;
+    case EDMI_POT_LJ:
+        if (!(s.hi > 0.0))
+            return 0;
+        x = tp_dw_div(tp_two_prod(b, b), s);
+        t = tp_dw_mul(tp_dw_mul(x, x), x);
+        *v = tp_dw_mul_d(tp_dw_mul(t, tp_dw_add_d(t, -1.0)), 4.0 * a);
+        *mag = 16.0 * tp_absd(a) * t.hi * (t.hi + 1.0);
+        return 1;
+    case EDMI_POT_INVERSE:
+        if (!(s.hi > 0.0))
+            return 0;
+        d = tp_dw_sqrt(s);
+        *v = tp_dw_div(tp_dw_of(-a), d);
+        *mag = tp_absd(a) / d.hi;
+        return 1;
+    case EDMI_POT_USER: /* the built-in whose V its callback gives (tp_user_builtin) */
+        return tp_user_builtin(p, &bp) && bp.kind != EDMI_POT_USER && tp_pot_dw(&bp, s, v, mag);
+    default:
+        return 0;
+    }
+}
+
+/* H(s), its magnitude and count of terms (tp_h_dw's work, flags aside); 0 if a term is not
+ * evaluated here (a coupled M, or what tp_pot_dw refuses). */
+static int tp_h_dw_eval(const edmi_system *s, tp_hdw *h)
+{
+    tp_dw sum = tp_dw_of(0.0), t;
+    double mag = 0.0;
+    int a, i, j, n = 0;
+#if EDMI_MAX_MASS_GAP > 0
+    if (tp_coupled(s))
+        return 0;
+#endif
+    for (a = 0; a < s->n_bodies; a++) {
+        const edmi_real *p = s->body[a].p;
+        double m = (double)s->body[a].m;
+        t = tp_two_prod((double)p[0], (double)p[0]);
+        for (i = 1; i < 3; i++)
+            t = tp_dw_add(t, tp_two_prod((double)p[i], (double)p[i]));
+        t = tp_dw_div_d(t, 2.0 * m);
+        sum = n++ ? tp_dw_add(sum, t) : t;
+        mag += t.hi;
+        if (s->has_field) /* V = -m g . q */
+            for (i = 0; i < 3; i++) {
+                double g = (double)s->g[i], q = (double)s->body[a].q[i];
+                if (g == 0.0 || q == 0.0)
+                    continue;
+                t = tp_dw_neg(tp_dw_mul_d(tp_two_prod(m, g), q));
+                sum = tp_dw_add(sum, t);
+                n++;
+                mag += tp_absd(t.hi);
+            }
+    }
+    for (j = 0; j < s->n_links; j++) {
+        double mj;
+        if (!tp_pot_dw(&s->link[j].pot, tp_link_sq_dw(s, j), &t, &mj))
+            return 0;
+        sum = n++ ? tp_dw_add(sum, t) : t;
+        mag += mj;
+    }
+    h->hi = sum.hi;
+    h->lo = sum.lo;
+    h->mag = mag;
+    h->n = n;
+    return 1;
+}
+#endif
+
+void tp_h_dw(const edmi_system *s, tp_hdw *h)
+{
+#if TP_FAST
+    fexcept_t saved;
+    int ok;
+    h->hi = h->lo = h->mag = 0.0;
+    h->n = h->ok = 0;
+    if (fegetround() != FE_TONEAREST)
+        return;
+    tp_fe_get(&saved, FE_ALL_EXCEPT);
+    tp_fe_clear(TP_FE_BAD);
+    ok = tp_h_dw_eval(s, h); /* stores into *h: done before the flags are read */
+    ok = ok && !tp_fe_test(TP_FE_BAD) && h->mag - h->mag == 0.0;
+    tp_fe_set(&saved, FE_ALL_EXCEPT);
+    h->ok = ok;
+#else
+    (void)s;
+    h->hi = h->lo = h->mag = 0.0;
+    h->n = h->ok = 0;
+#endif
+}
+
+int tp_delta_dw(const edmi_system *s0, const tp_hdw *h0, const edmi_system *s1,
+                const tp_hdw *h1, const edmi_step_result *res, tp_delta *out)
+{
+#if TP_FAST
+    tp_dw dh, w, diff, x0, x1;
+    double we = (double)res->work_ext, wa = (double)res->work_anchor;
+    double t0 = (double)s0->tank, t1 = (double)s1->tank, mag, thr;
+    int a, i;
+    if (!h0->ok || !h1->ok || s0->n_bodies != s1->n_bodies || s0->n_links != s1->n_links ||
+        s0->has_field != s1->has_field)
+        return 0;
+    for (a = 0; a < s0->n_bodies; a++) /* tp_delta_h takes s0's masses and field for both */
+        if (s0->body[a].m != s1->body[a].m)
+            return 0;
+    for (i = 0; i < 3 && s0->has_field; i++)
+        if (s0->g[i] != s1->g[i])
+            return 0;
+    x0.hi = h0->hi, x0.lo = h0->lo, x1.hi = h1->hi, x1.lo = h1->lo;
+    dh = tp_dw_add(x1, tp_dw_neg(x0));
+    w = tp_dw_add_d(tp_dw_add_d(tp_two_sum(we, wa), t0), -t1);
+    diff = tp_dw_add(dh, tp_dw_neg(w));
+    mag = h0->mag + h1->mag + (tp_absd(we) + tp_absd(wa) + tp_absd(t0) + tp_absd(t1));
+    thr = (96.0 + 4.0 * (double)(h0->n > h1->n ? h0->n : h1->n)) * 0x1p-106 * mag;
+    if (!(thr >= 0x1p-960 && thr <= 0x1p960) || dh.hi - dh.hi != 0.0 || diff.hi - diff.hi != 0.0)
+        return 0;
+    out->broken = tp_dw_above(diff, thr);
+    out->unresolved = !out->broken && !tp_dw_below(diff, -thr);
+    out->rose = tp_dw_above(dh, thr);
+    out->dh = (long double)dh.hi + (long double)dh.lo;
+    out->w = (long double)w.hi + (long double)w.lo;
+    out->diff = (long double)diff.hi + (long double)diff.lo;
+    out->err = (long double)thr;
+    out->mag = (long double)mag;
+    out->quad = 0;
+    return !out->unresolved && (out->rose || tp_dw_below(dh, -thr));
+#else
+    (void)s0, (void)h0, (void)s1, (void)h1, (void)res, (void)out;
+    return 0;
+#endif
+}
+
+int tp_delta_h_fast(const edmi_system *s0, const tp_hdw *h0, const edmi_system *s1,
+                    const tp_hdw *h1, const edmi_step_result *res, tp_delta *out)
+{
+    return tp_delta_dw(s0, h0, s1, h1, res, out) || tp_delta_h(s0, s1, res, out);
 }
 
 /* A run of steps under the window check: A_n = H_n - sum_{k<n} W_k (H_n = H_n-1 + dh, not a

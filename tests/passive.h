@@ -32,10 +32,37 @@ typedef struct tp_delta {
                          resolution */
     int unresolved;   /* |dh - w| <= err in tp_q: below the check's resolution */
     int rose;         /* dh > err in tp_q: H rose beyond the check's resolution */
+    int quad;         /* 1: evaluated in tp_q (tp_delta_h); 0: by tp_delta_dw, whose dh, w,
+                         diff, err (its threshold T) and mag (its M) these are */
 } tp_delta;
 
 int tp_delta_h(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res,
                tp_delta *d);
+
+/* tp_delta_h's decisions at a fraction of its cost (tests/passive.c proves the bound).
+ * tp_h_dw: H of one stored state in binary64 double-word arithmetic, hi + lo, with the
+ * magnitude mag and count n of its terms that bound its error; ok 0 where it is not evaluated
+ * (a coupled M, a potential it does not cover, an underflow or overflow on the way, a build
+ * without __float128, where tp_q is no slower). tp_delta_dw: dh = H(s1) - H(s0) and dh - w
+ * from two of them, decided against a threshold T >= their error + 2 x tp_delta_h's err;
+ * 1 where that settles broken, unresolved and rose (then equal to tp_delta_h's), 0 where it
+ * does not (a change within T of 0, either state not evaluated, masses or field that differ
+ * between the states); where it returns 1, and where only T left a decision open, *d holds
+ * this evaluation's dh, w, diff, T as err and its magnitude as mag, with quad 0 (its flags
+ * mean something only where it returns 1). tp_delta_h_fast: tp_delta_dw, else tp_delta_h (quad 1); its return value
+ * and decisions are tp_delta_h's. A run evaluates each state once: the h1 of one step is
+ * the h0 of the next. */
+typedef struct tp_hdw {
+    double hi, lo; /* H(s) = hi + lo */
+    double mag;    /* the sum of its terms' magnitudes (the bound's M) */
+    int n, ok;     /* its number of terms; 1 if evaluated */
+} tp_hdw;
+
+void tp_h_dw(const edmi_system *s, tp_hdw *h);
+int tp_delta_dw(const edmi_system *s0, const tp_hdw *h0, const edmi_system *s1,
+                const tp_hdw *h1, const edmi_step_result *res, tp_delta *d);
+int tp_delta_h_fast(const edmi_system *s0, const tp_hdw *h0, const edmi_system *s1,
+                    const tp_hdw *h1, const edmi_step_result *res, tp_delta *d);
 
 /* The tank's statement on every window of consecutive steps, H_n - H_m <= the works in
  * between + T_m for every m < n, checked as a run goes (in tp_q: A_n = H_n - sum of the works

@@ -5,7 +5,7 @@
  *            [--tol-a X] [--l-max N] [--lg-switch closed|janz|gonzalez|ge|pm|pt]
  *            [--guard auto|on|off] [--fallback on|off] [--substeps K] [--every K] [--csv FILE]
  *            [--energy-balance] [--balance-tol X] [--ref FILE|converged] [--row]
- *            [--label TEXT] [--quiet] [--emit-c]
+ *            [--label TEXT] [--h-check FILE] [--quiet] [--emit-c]
  *
  * Prints a summary (steps, time, wall time, Newton iterations, final and maximum
  * |H - H0|/|H0|, maximum |J - J0|, |L - L0|, |C - C0|, the steps where H of the stored state
@@ -71,6 +71,10 @@ static const char *const usage_text =
     "                            more than a tenth of the error\n"
     "  --row                     print one Markdown table row instead of the summary\n"
     "  --label TEXT              the row's scheme column (default: derived from the options)\n"
+    "  --h-check FILE            write the H check's counts to FILE, one line: steps N checked\n"
+    "                            C rose R beyond E quad Q guard on|off (C = N, or 0 where a\n"
+    "                            state could not be evaluated; E: beyond the work and the\n"
+    "                            tank; Q: steps evaluated in __float128)\n"
     "  --quiet                   no progress report on stderr\n"
     "  --emit-c                  print the scene as C99 static data (a static const edmi_scene\n"
     "                            NAME_scene, NAME from the file name, with NAME_DT and a\n"
@@ -86,6 +90,7 @@ typedef struct sim_opts {
     const char *csv;
     const char *label;
     const char *ref; /* --ref FILE, or "converged" */
+    const char *h_check; /* --h-check FILE */
     int has_scheme, has_switch, has_tol_q, has_tol_r, has_tol_a, has_l_max, has_guard,
         has_fallback, has_tank_cap, has_substeps;
     double tank_cap;
@@ -193,7 +198,7 @@ static void parse_args(int argc, char **argv, sim_opts *o)
             strcmp(name, "--l-max") && strcmp(name, "--csv") && strcmp(name, "--ref") &&
             strcmp(name, "--every") && strcmp(name, "--digits") && strcmp(name, "--label") &&
             strcmp(name, "--balance-tol") && strcmp(name, "--tank-cap") &&
-            strcmp(name, "--substeps"))
+            strcmp(name, "--substeps") && strcmp(name, "--h-check"))
             usage_error("unknown option '%s'%s", a, "");
         if (!v) {
             if (i + 1 >= argc)
@@ -256,6 +261,8 @@ static void parse_args(int argc, char **argv, sim_opts *o)
                 usage_error("--digits: '%s' is more than 17%s", v, "");
         } else if (strcmp(name, "--csv") == 0) {
             o->csv = v;
+        } else if (strcmp(name, "--h-check") == 0) {
+            o->h_check = v;
         } else if (strcmp(name, "--ref") == 0) {
             o->ref = v;
         } else if (strcmp(name, "--label") == 0) {
@@ -491,6 +498,8 @@ typedef struct sim_stats {
      * steps where it rose, where it rose by more than the work supplied (beyond the
      * evaluation's own error bound), and the largest one-step rise relative to h_scale */
     long h_rises, h_excess, max_rise_step;
+    long h_quad;   /* steps evaluated in tp_q: where double-word arithmetic could not decide
+                      (tp_delta_h_fast), and a rise that may be the largest (its value) */
     double max_rise;
     int h_checked; /* 0: a potential tests/passive.c cannot evaluate */
 } sim_stats;
@@ -1005,6 +1014,14 @@ static double balance_tol(const sim_opts *o)
     return 256.0 * (edmi_is_double_precision() ? DBL_EPSILON : (double)FLT_EPSILON);
 }
 
+/* Whether the passivity guard runs: on, or auto with an energy-safe scheme. */
+static int guard_runs(const edmi_params *p)
+{
+    return p->guard == EDMI_GUARD_ON ||
+           (p->guard == EDMI_GUARD_AUTO &&
+            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+}
+
 static void print_summary(const sim_opts *o, const sim_stats *st, double dt, long n_steps,
                           const edmi_invariants *inv0, const sim_stiff *sf)
 {
@@ -1012,9 +1029,7 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
     const edmi_params *p = &sys.params;
     char why[48], lbl[64];
     int j_ok, lc_ok;
-    int guard_on = p->guard == EDMI_GUARD_ON ||
-                   (p->guard == EDMI_GUARD_AUTO &&
-                    (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+    int guard_on = guard_runs(p);
     scheme_label(p, lbl, sizeof lbl);
     printf("scene     %s%s%s\n", o->scene, scn.title[0] ? ": " : "", scn.title);
     printf("          %d bodies, %d links, %d dampers, field %s, %d force ports\n", scn.n_bodies,
@@ -1124,6 +1139,24 @@ static void print_row(const sim_opts *o, const sim_stats *st, double q_max, doub
     printf("\n");
 }
 
+/* --h-check FILE: the H check's counts, one line (examples/run_examples.sh adds them up). */
+static int write_h_check(const char *path, const sim_stats *st)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "edmi-sim: cannot write %s: %s\n", path, strerror(errno));
+        return 1;
+    }
+    fprintf(f, "steps %ld checked %ld rose %ld beyond %ld quad %ld guard %s\n", st->steps,
+            st->h_checked ? st->steps : 0L, st->h_rises, st->h_excess, st->h_quad,
+            guard_runs(&sys.params) ? "on" : "off");
+    if (fclose(f) != 0) {
+        fprintf(stderr, "edmi-sim: writing %s: %s\n", path, strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
 static void progress(const sim_opts *o, long k, long n, double t0, double *next, int tty)
 {
     double el = now_s() - t0;
@@ -1147,6 +1180,7 @@ int main(int argc, char **argv)
     FILE *csv = 0;
     static sim_ref ref;
     static edmi_system run_sys, prev_sys; /* prev_sys: bodies and anchors of the last state */
+    tp_hdw h_prev;                        /* H of prev_sys in double-word (tests/passive.c) */
     sim_err rerr;
     sim_conv conv;
     sim_stiff stiff;
@@ -1249,9 +1283,8 @@ int main(int argc, char **argv)
         ref_compare(&ref, &rerr, 0.0, dt, (double)inv0.h);
     }
     memset(&st, 0, sizeof st);
-    /* the row has no cell for it: skip its cost (~10% on the ten bodies) unless the energy
-     * balance needs it */
-    st.h_checked = !o.row || o.energy_balance;
+    st.h_checked = 1;
+    tp_h_dw(&sys, &h_prev);
     prev_sys = sys;
     st.h0 = (double)inv0.h;
     st.h_scale = st.h0 != 0.0 ? fabs(st.h0) : 1.0;
@@ -1330,8 +1363,25 @@ int main(int argc, char **argv)
         if (dc > st.max_dc)
             st.max_dc = dc;
         if (st.h_checked) {
+            /* tp_delta_h's decisions, in double-word arithmetic where that settles them
+             * (tests/passive.c); the energy balance needs tp_q's dh and mag themselves */
             tp_delta d;
-            if (tp_delta_h(&prev_sys, &sys, &res, &d)) {
+            tp_hdw h;
+            int ok;
+            if (o.energy_balance) {
+                ok = tp_delta_h(&prev_sys, &sys, &res, &d);
+            } else {
+                tp_h_dw(&sys, &h);
+                ok = tp_delta_h_fast(&prev_sys, &h_prev, &sys, &h, &res, &d);
+                h_prev = h;
+            }
+            /* a rise that may be the run's largest: the summary prints tp_q's value */
+            if (ok && !d.quad && !o.row &&
+                (d.dh + d.err) / (long double)st.h_scale >=
+                    (long double)st.max_rise * (1.0L - 0x1p-30L))
+                ok = tp_delta_h(&prev_sys, &sys, &res, &d);
+            if (ok) {
+                st.h_quad += d.quad;
                 if (o.energy_balance) {
                     /* H's change from the stored states (tp_q, rounded to long double),
                      * against the reported terms, relative to the magnitude of both: H itself
@@ -1415,6 +1465,8 @@ int main(int argc, char **argv)
         print_summary(&o, &st, dt, n_steps, &inv0, &stiff);
         print_ref(&o, &rerr, &conv, dt);
     }
+    if (o.h_check && write_h_check(o.h_check, &st))
+        return 2;
     if (failed)
         return 1;
     if (o.energy_balance && st.h_checked && !(st.max_balance <= balance_tol(&o))) {

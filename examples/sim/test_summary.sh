@@ -64,6 +64,25 @@ if [[ $cost =~ ^[0-9.]+(e[-+][0-9]+)?$ ]] && awk -v c="$cost" 'BEGIN { exit !(c 
 else
     bad "--row: us/step column '$cost' in: $row"
 fi
+# 5b. --h-check FILE, with --row too (make run-examples adds the files up): one line of the H
+#     check's counts, the summary's own (H rose, beyond the work and the tank), every step
+#     checked; the spring's PM steps all settled in double-word arithmetic (0 in __float128).
+read -r r n e <<<"$(rises "$("$sim" "$spring" --scheme pm --quiet)")"
+"$sim" "$spring" --scheme pm --row --quiet --h-check "$tmp/h" >/dev/null
+line=$(cat "$tmp/h" 2>/dev/null)
+if [ "$line" = "steps 10000 checked 10000 rose $r beyond $e quad 0 guard on" ]; then
+    ok "--row --h-check: '$line' (the summary's counts)"
+else
+    bad "--row --h-check: '$line', the summary: rose '$r' of '$n', beyond '$e'"
+fi
+"$sim" "$spring" --scheme mp --row --quiet --h-check "$tmp/h" >/dev/null
+line=$(cat "$tmp/h" 2>/dev/null)
+if [[ $line =~ ^steps\ 10000\ checked\ 10000\ rose\ ([0-9]+)\ beyond\ ([0-9]+)\ quad\ [0-9]+\ guard\ off$ ]] &&
+        [ "${BASH_REMATCH[1]}" = "${BASH_REMATCH[2]}" ] && [ "${BASH_REMATCH[1]}" -ge 3000 ]; then
+    ok "--row --h-check, MP: '$line'"
+else
+    bad "--row --h-check, MP: '$line'"
+fi
 
 # 6. The general mass matrix: the cable with consistent masses (`mass` lines), PM with the
 #    guard and the energy balance on: H never rises beyond what the tank held, the balance
