@@ -2438,13 +2438,18 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
     edmi_real cprev2 = EDMI_REAL_MAX;
     edmi_status st;
     int l, halvings_before, switches_before, chord = 0, contracted = 0, chord_ok = 1;
+    int refreshed = 0;
     if (!(r > EDMI__ZERO))
         return EDMI_OK;
     for (l = 1;; l++) {
         /* A chord correction (the last factors again) where factoring costs more than it
          * saves: at l = 1 from the factors the last step kept; later only once a contracting
          * correction has brought the residual into Newton's quadratic tail, below sqrt(eps)
-         * r_0, because the first tangent at a far predictor is a poor one. With tol_r or
+         * r_0, because the first tangent at a far predictor is a poor one, or once the
+         * last step's factors stopped contracting and were factored anew at an iterate their
+         * chord corrections had brought near (the solar system at the paper's tol_R: 0.64
+         * factorisations per step where that waited for sqrt(eps) r_0 took 1.29, 14 % fewer
+         * instructions, 6.0 corrections per step instead of 5.5). With tol_r or
          * tol_a too: a chord stops just below the tolerance where Newton's quadratic last
          * step lands far below it, but at the paper's tol_R = 1e-12 the solar system's H
          * drifts by 4.1e-12 where Newton's drifts by 3.2e-12, at 71 % of the instructions.
@@ -2453,7 +2458,8 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
          * rule. */
         chord = chord_ok && sys->n_bodies > 1 && moved == EDMI__ONE &&
                 (l == 1 ? work->kept
-                        : contracted && (work->kept || r <= EDMI__SQRT_EPS * res->residual0)) &&
+                        : contracted && (work->kept || refreshed ||
+                                         r <= EDMI__SQRT_EPS * res->residual0)) &&
                 edmi__chord_pays(sys, work);
         switches_before = res->lg_switches;
         st = edmi__newton_update(sys, work, dt, chord);
@@ -2522,10 +2528,12 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         }
         contracted = l == 1 || c <= EDMI__CHORD_RATE * cprev;
         if (chord && (!contracted || r > rprev)) {
-            if (work->kept)
-                work->kept = 0; /* the last step's matrix is too old here: factor anew */
-            else
+            if (work->kept) { /* the last step's matrix is too old here: factor anew, */
+                work->kept = 0;
+                refreshed = 1; /* at an iterate the chord already brought near */
+            } else {
                 chord_ok = 0;
+            }
         }
         cprev2 = l >= 2 ? cprev : EDMI_REAL_MAX;
         cprev = res->correction;
