@@ -222,9 +222,12 @@ static EDMI__INLINE void edmi__zero5(edmi_real a[5])
 
 static EDMI__INLINE void edmi__copy5(const edmi_real a[5], edmi_real out[5])
 {
-    int i;
-    for (i = 0; i < 5; i++)
-        out[i] = a[i];
+    /* written out: at -Os a loop of 5 costs a compare and a branch per element */
+    out[0] = a[0];
+    out[1] = a[1];
+    out[2] = a[2];
+    out[3] = a[3];
+    out[4] = a[4];
 }
 
 /* The validator (section "Building a system, and scenes") is what every entry point calls
@@ -466,7 +469,7 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
 /* A harmonic spring of rest length 0, V = k/2 d^2 = k/2 |r|^2, is a quadratic function of
  * the link vector, smooth at d = 0 (a haptic virtual coupling): the only potential a link of
  * length 0 may have. The forces take its closed forms (edmi__beta_linear). */
-static int edmi__is_linear(const edmi_potential *pot)
+static EDMI__INLINE int edmi__is_linear(const edmi_potential *pot)
 {
     return EDMI__HAS_POT(EDMI_POT_HARMONIC) && pot->kind == EDMI_POT_HARMONIC &&
            pot->b == EDMI__ZERO;
