@@ -215,6 +215,36 @@ static void edmi__copy3(const edmi_real a[3], edmi_real out[3])
     out[2] = a[2];
 }
 
+/* The hot loops over a vector's three components, written out: at -Os a loop of 3 pays a
+ * compare and a branch per component (y += s x; y += x; y -= x; out = s x). */
+static EDMI__INLINE void edmi__axpy3(edmi_real s, const edmi_real x[3], edmi_real y[3])
+{
+    y[0] += s * x[0];
+    y[1] += s * x[1];
+    y[2] += s * x[2];
+}
+
+static EDMI__INLINE void edmi__add3(const edmi_real x[3], edmi_real y[3])
+{
+    y[0] += x[0];
+    y[1] += x[1];
+    y[2] += x[2];
+}
+
+static EDMI__INLINE void edmi__sub_from3(const edmi_real x[3], edmi_real y[3])
+{
+    y[0] -= x[0];
+    y[1] -= x[1];
+    y[2] -= x[2];
+}
+
+static EDMI__INLINE void edmi__scale3(edmi_real s, const edmi_real x[3], edmi_real out[3])
+{
+    out[0] = s * x[0];
+    out[1] = s * x[1];
+    out[2] = s * x[2];
+}
+
 static EDMI__INLINE void edmi__zero5(edmi_real a[5])
 {
     a[0] = a[1] = a[2] = a[3] = a[4] = EDMI__ZERO;
@@ -1517,8 +1547,9 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
     edmi_real rm_div = EDMI__ONE;
     edmi_status st = EDMI_OK;
     int i;
-    for (i = 0; i < 3; i++)
-        w->rm[i] = EDMI__HALF * (w->r0[i] + r1[i]);
+    w->rm[0] = EDMI__HALF * (w->r0[0] + r1[0]);
+    w->rm[1] = EDMI__HALF * (w->r0[1] + r1[1]);
+    w->rm[2] = EDMI__HALF * (w->r0[2] + r1[2]);
     w->have1 = 0;
     w->noise = EDMI__ZERO;
     *switched = 0;
@@ -1530,8 +1561,7 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
         st = edmi__beta_split(&sys->params, &lk->pot, w, r1, dt, switched);
     if (st != EDMI_OK)
         return st;
-    for (i = 0; i < 3; i++)
-        f[i] = dt * w->beta * w->rm[i];
+    edmi__scale3(dt * w->beta, w->rm, f);
     if (rm_div != EDMI__ONE)
         for (i = 0; i < 3; i++)
             w->rm[i] /= rm_div;
@@ -1640,16 +1670,16 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
                                   const edmi_real (*q1)[3], const edmi_real (*p1)[3],
                                   edmi_real (*rq)[3], edmi_real (*rp)[3], int *switches)
 {
-    int a, i, k, nsw = 0, sw;
+    int a, k, nsw = 0, sw;
     edmi_real r1[3], f[3];
     edmi_status st;
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real h = dt / bd->m * EDMI__HALF;
-        for (i = 0; i < 3; i++) {
-            rq[a][i] = q1[a][i] - bd->q[i] - h * (bd->p[i] + p1[a][i]);
-            rp[a][i] = p1[a][i] - bd->p[i];
-        }
+        rq[a][0] = q1[a][0] - bd->q[0] - h * (bd->p[0] + p1[a][0]);
+        rq[a][1] = q1[a][1] - bd->q[1] - h * (bd->p[1] + p1[a][1]);
+        rq[a][2] = q1[a][2] - bd->q[2] - h * (bd->p[2] + p1[a][2]);
+        edmi__sub(p1[a], bd->p, rp[a]);
     }
     edmi__mass_residual(sys, q1, rq);
     /* Pair links, then anchor links (work->order, set once per step): no per-link branch. */
@@ -1660,10 +1690,8 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
         if (st != EDMI_OK)
             return st;
         nsw += sw;
-        for (i = 0; i < 3; i++) {
-            rp[lk->a][i] += f[i];
-            rp[lk->b][i] -= f[i];
-        }
+        edmi__add3(f, rp[lk->a]);
+        edmi__sub_from3(f, rp[lk->b]);
     }
     for (k = work->n_pair; k < sys->n_links; k++) {
         const edmi_link *lk = &sys->link[work->order[k]];
@@ -1672,8 +1700,7 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
         if (st != EDMI_OK)
             return st;
         nsw += sw;
-        for (i = 0; i < 3; i++)
-            rp[lk->a][i] += f[i];
+        edmi__add3(f, rp[lk->a]);
     }
     st = edmi__effects_residual(sys, work, dt, q1, rp);
     if (st != EDMI_OK)
@@ -2050,10 +2077,11 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
     int nb = sys->n_bodies, n = 3 * nb, a, i;
     edmi_status st;
     for (a = 0; a < nb; a++) {
-        edmi_real h = dt / (EDMI_R(2.0) * sys->body[a].m);
+        edmi_real h = dt / (EDMI_R(2.0) * sys->body[a].m), *rhs = work->rhs + 3 * a;
         work->h[a] = h;
-        for (i = 0; i < 3; i++)
-            work->rhs[3 * a + i] = -work->rq[a][i] - h * work->rp[a][i];
+        rhs[0] = -work->rq[a][0] - h * work->rp[a][0];
+        rhs[1] = -work->rq[a][1] - h * work->rp[a][1];
+        rhs[2] = -work->rq[a][2] - h * work->rp[a][2];
     }
     /* (a one-body capacity compiles the one-body solves alone) */
     if (nb == 1 && sys->n_links == 1 && EDMI__N_DAMPERS(sys) == 0) {
@@ -2099,9 +2127,10 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         edmi__lu_solve(work->mat, work->row, work->rhs, n, work->kb, work->upper, work->piv);
     }
     for (a = 0; a < nb; a++) {
-        edmi_real c = EDMI_R(2.0) * sys->body[a].m / dt;
-        for (i = 0; i < 3; i++)
-            work->dp[a][i] = c * (work->rq[a][i] + work->rhs[3 * a + i]);
+        edmi_real c = EDMI_R(2.0) * sys->body[a].m / dt, *rhs = work->rhs + 3 * a;
+        work->dp[a][0] = c * (work->rq[a][0] + rhs[0]);
+        work->dp[a][1] = c * (work->rq[a][1] + rhs[1]);
+        work->dp[a][2] = c * (work->rq[a][2] + rhs[2]);
     }
 #if EDMI_MAX_MASS_GAP > 0
     for (a = 1; a < nb; a++) { /* dp = 2/dt (M_diag (R_q + dq) + M_off dq) */
@@ -2134,12 +2163,11 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
 /* Move the iterate by lambda times the Newton correction (dq in work->rhs, dp in work->dp). */
 static void edmi__move(const edmi_system *sys, edmi_workspace *work, edmi_real lambda)
 {
-    int a, i;
-    for (a = 0; a < sys->n_bodies; a++)
-        for (i = 0; i < 3; i++) {
-            work->q1[a][i] += lambda * work->rhs[3 * a + i];
-            work->p1[a][i] += lambda * work->dp[a][i];
-        }
+    int a;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__axpy3(lambda, work->rhs + 3 * a, work->q1[a]);
+        edmi__axpy3(lambda, work->dp[a], work->p1[a]);
+    }
 }
 
 static edmi_status edmi__set_scales(const edmi_system *sys, edmi_workspace *work, edmi_real dt)
