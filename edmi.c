@@ -2478,9 +2478,9 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
          * correction has brought the residual into Newton's quadratic tail, below sqrt(eps)
          * r_0, because the first tangent at a far predictor is a poor one, or once the
          * last step's factors stopped contracting and were factored anew at an iterate their
-         * chord corrections had brought near (the solar system at the paper's tol_R: 0.64
-         * factorisations per step where that waited for sqrt(eps) r_0 took 1.29, 14 % fewer
-         * instructions, 6.0 corrections per step instead of 5.5). With tol_r or
+         * chord corrections had brought near (the solar system at the paper's tol_R, 365,000
+         * steps of PM: 0.51 factorisations per step where waiting for sqrt(eps) r_0 took 1.02,
+         * and 7.1 corrections instead of 6.6; make run-examples 3 % less CPU). With tol_r or
          * tol_a too: a chord stops just below the tolerance where Newton's quadratic last
          * step lands far below it, but at the paper's tol_R = 1e-12 the solar system's H
          * drifts by 4.1e-12 where Newton's drifts by 3.2e-12, at 71 % of the instructions.
