@@ -2695,8 +2695,16 @@ static int edmi__link_still(const edmi_system *sys, const edmi_link_ws *w, const
  * the evaluation's error: relative to the change |dd| (the callback's own error, assumed
  * 8 eps of |V'|; the rounding of the evaluation points through V''; of dd and of the
  * products, each doubled for the neglected second-order terms), plus |Lambda_pm| times the
- * double-word error of ds over d0 + d1. *ds = d1^2 - d0^2 and *mag1, the magnitude of V's
+ * double-word error of ds over d0 + d1, plus the callback's values lost to underflow
+ * (EDMI__USER_TINY). *ds = d1^2 - d0^2 and *mag1, the magnitude of V's
  * terms at d1, are returned too. */
+/* What a callback's value may lose to underflow, flush to zero included: V' at the mid-length
+ * and the two V''' the perturbation reads, each up to this, enter the bound through |dd| and
+ * |dd|^3 / 24. Found by the fuzzer: V = -100/r at r ~ 1e12 in float, whose V''' (6e-46) the
+ * callback returns as 0, and a step of dd = 4.8e10, where the lost dd^3/24 V''' (2.8e-15)
+ * was the margin of the bound over V's true change. */
+#define EDMI__USER_TINY (EDMI_R(2.0) * EDMI__REAL_MIN)
+
 static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
                                  const edmi_link *lk, const edmi_real (*q1)[3], edmi_real *ub,
                                  edmi_real *err, edmi_real *ds, edmi_real *mag1)
@@ -2732,7 +2740,8 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
     *err = EDMI_EPS * edmi__abs(dd) *
                (EDMI_R(16.0) * (edmi__abs(lam) + edmi__abs(pa.v[1]) + edmi__abs(pert)) +
                 EDMI_R(8.0) * edmi__abs(pa.v[2]) * den) +
-           EDMI_R(2.0) * edmi__abs(lam) * (eds / den) + EDMI__DW_TINY;
+           EDMI_R(2.0) * edmi__abs(lam) * (eds / den) + EDMI__DW_TINY +
+           edmi__abs(dd) * EDMI__USER_TINY * (EDMI__ONE + dd * dd / EDMI_R(12.0));
     *mag1 = edmi__pot_mag(&p1, d1);
     return edmi__finite(*ub) && edmi__finite(*err) ? EDMI_OK : EDMI_ERR_RANGE;
 }
