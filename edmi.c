@@ -2711,7 +2711,7 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
 {
     const edmi_real *b0 = lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q;
     edmi__dw r0[3], r1[3], s0 = edmi__dw_of(EDMI__ZERO), s1 = edmi__dw_of(EDMI__ZERO);
-    edmi_real d1, den, dd, eds, pert, lam;
+    edmi_real d1, den, dd, eds, pert, lam, ddu, add;
     edmi_pot_parts pa, p1;
     edmi_status st;
     int i;
@@ -2737,11 +2737,16 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
     pert = dd * dd / EDMI_R(24.0) * (p1.sp[3] + w->d3m0);
     lam = pa.v[1] + pert;
     *ub = lam * dd;
-    *err = EDMI_EPS * edmi__abs(dd) *
+    /* dd is known to ddu (ds's error over d0 + d1): where ds rounds to 0 at a length far
+     * beyond the step (a body 1e17 from its anchor in float), every term below scales with
+     * |dd| + ddu, not with the computed |dd|, and V' at the mid-length errs by V'' ddu */
+    ddu = eds / den;
+    add = edmi__abs(dd) + ddu;
+    *err = EDMI_EPS * add *
                (EDMI_R(16.0) * (edmi__abs(lam) + edmi__abs(pa.v[1]) + edmi__abs(pert)) +
                 EDMI_R(8.0) * edmi__abs(pa.v[2]) * den) +
-           EDMI_R(2.0) * edmi__abs(lam) * (eds / den) + EDMI__DW_TINY +
-           edmi__abs(dd) * EDMI__USER_TINY * (EDMI__ONE + dd * dd / EDMI_R(12.0));
+           EDMI_R(2.0) * edmi__abs(lam) * ddu + edmi__abs(pa.v[2]) * add * ddu + EDMI__DW_TINY +
+           add * EDMI__USER_TINY * (EDMI__ONE + add * add / EDMI_R(12.0));
     *mag1 = edmi__pot_mag(&p1, d1);
     return edmi__finite(*ub) && edmi__finite(*err) ? EDMI_OK : EDMI_ERR_RANGE;
 }
