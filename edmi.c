@@ -67,7 +67,7 @@
 /* The schemes and potential kinds this build carries (edmi.h, EDMI_WITH_*): bit k is scheme
  * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT of a constant are constants, so a test such as
  * EDMI__HAS_SCHEME(EDMI_LG) && p->scheme == EDMI_LG drops the code behind it when LG is out;
- * with every one in (all five schemes, all six kinds) they are 1 for any value, so the
+ * with every one in (all five schemes, all eight kinds) they are 1 for any value, so the
  * validators test nothing more than the default build needs.
  * The decaying Lambdas are needed by their schemes and by LG's alternates. */
 #define EDMI__SCHEMES                                                                      \
@@ -82,8 +82,9 @@
     ((unsigned)EDMI_WITH_HARMONIC << EDMI_POT_HARMONIC |                                   \
      (unsigned)EDMI_WITH_QUARTIC << EDMI_POT_QUARTIC |                                     \
      (unsigned)EDMI_WITH_NEO_HOOKE << EDMI_POT_NEO_HOOKE | (unsigned)EDMI_WITH_LJ << EDMI_POT_LJ | \
-     (unsigned)EDMI_WITH_INVERSE << EDMI_POT_INVERSE | (unsigned)EDMI_WITH_USER << EDMI_POT_USER)
-#define EDMI__HAS_POT(k) (EDMI__POTS == 63u || (EDMI__POTS >> (k) & 1u) != 0)
+     (unsigned)EDMI_WITH_INVERSE << EDMI_POT_INVERSE | (unsigned)EDMI_WITH_USER << EDMI_POT_USER | \
+     (unsigned)EDMI_WITH_CONTACT << EDMI_POT_CONTACT | (unsigned)EDMI_WITH_CONTACT << EDMI_POT_TETHER)
+#define EDMI__HAS_POT(k) (EDMI__POTS == 255u || (EDMI__POTS >> (k) & 1u) != 0)
 /* The field and the force ports in use: the constant 0 when compiled out (as dampers). */
 #define EDMI__HAS_FIELD(s) (EDMI_WITH_FIELD && (s)->has_field)
 #define EDMI__N_FORCED(s) (EDMI_WITH_PORTS ? (s)->n_forced : 0)
@@ -511,6 +512,18 @@ static int edmi__is_user(const edmi_potential *pot)
     return EDMI__HAS_POT(EDMI_POT_USER) && pot->kind == EDMI_POT_USER;
 }
 
+#if EDMI_WITH_HARMONIC || EDMI_WITH_NEO_HOOKE || EDMI_WITH_INVERSE || EDMI_WITH_CONTACT
+/* The parts of a convex and super-convex V: V_c = V_+ = V, V_e = V_- = 0. */
+static void edmi__parts_convex(edmi_pot_parts *o)
+{
+    edmi__copy5(o->v, o->c);
+    edmi__copy5(o->v, o->sp);
+    edmi__zero5(o->e);
+    edmi__zero5(o->sm);
+}
+
+#endif
+
 #if EDMI_WITH_HARMONIC
 /* V = k/2 (r - r0)^2: convex and super-convex (V'''' = 0), so V_c = V_+ = V. */
 static void edmi__pot_harmonic(edmi_real k, edmi_real r0, edmi_real r, edmi_pot_parts *o,
@@ -524,10 +537,7 @@ static void edmi__pot_harmonic(edmi_real k, edmi_real r0, edmi_real r, edmi_pot_
     o->v[4] = EDMI__ZERO;
     if (!split)
         return;
-    edmi__copy5(o->v, o->c);
-    edmi__copy5(o->v, o->sp);
-    edmi__zero5(o->e);
-    edmi__zero5(o->sm);
+    edmi__parts_convex(o);
 }
 
 #endif
@@ -579,10 +589,7 @@ static void edmi__pot_neo_hooke(edmi_real c, edmi_real rb, edmi_real r, edmi_pot
     o->v[4] = EDMI_R(8.0) * c * b3 * ir * ir;
     if (!split)
         return;
-    edmi__copy5(o->v, o->c);
-    edmi__copy5(o->v, o->sp);
-    edmi__zero5(o->e);
-    edmi__zero5(o->sm);
+    edmi__parts_convex(o);
 }
 
 #endif
@@ -641,11 +648,36 @@ static void edmi__pot_inverse(edmi_real k, edmi_real r, edmi_pot_parts *o, int s
         edmi__zero5(o->c);
         edmi__zero5(o->sp);
     } else {
-        edmi__copy5(o->v, o->c);
-        edmi__copy5(o->v, o->sp);
-        edmi__zero5(o->e);
-        edmi__zero5(o->sm);
+        edmi__parts_convex(o);
     }
+}
+
+#endif
+
+#if EDMI_WITH_CONTACT
+/* The one-sided cubic forms, V = a/3 x^3 for x = sg (r - b) > 0, else 0: compression only
+ * (contact, sg = -1, x = R - r) or tension only (tether, sg = +1, x = r - L). V'' = 2 a x >= 0
+ * and V''' = 2 sg a (x > 0), a step that rises with r: V is convex and super-convex, V_c =
+ * V_+ = V, and GE, PM and PT keep their energy decay across the step where contact begins
+ * or ends (docs/contact.md). The quadratic k/2 x^2 has no such split (its V''' jumps down by
+ * k: no sum of a rising and a falling V''' gives that), nor has Hertz's x^(5/2) (V''' is
+ * unbounded at x = 0). */
+static void edmi__pot_contact(edmi_real a, edmi_real b, edmi_real sg, edmi_real r,
+                              edmi_pot_parts *o, int split)
+{
+    edmi_real x = sg * (r - b);
+    if (!(x > EDMI__ZERO)) {
+        edmi__zero5(o->v);
+    } else {
+        o->v[0] = a / EDMI_R(3.0) * x * x * x;
+        o->v[1] = sg * a * x * x;
+        o->v[2] = EDMI_R(2.0) * a * x;
+        o->v[3] = EDMI_R(2.0) * sg * a;
+        o->v[4] = EDMI__ZERO;
+    }
+    if (!split)
+        return;
+    edmi__parts_convex(o);
 }
 
 #endif
@@ -666,6 +698,10 @@ static int edmi__pot_valid(const edmi_potential *pot)
         return a > EDMI__ZERO && b > EDMI__ZERO;
     case EDMI_POT_INVERSE:
         return a != EDMI__ZERO;
+    case EDMI_POT_CONTACT:
+        return a > EDMI__ZERO && b > EDMI__ZERO;
+    case EDMI_POT_TETHER:
+        return a > EDMI__ZERO && b >= EDMI__ZERO;
     case EDMI_POT_USER:
     default:
         return 0;
@@ -714,6 +750,13 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
         edmi__pot_inverse(pot->a, r, o, split);
         break;
 #endif
+#if EDMI_WITH_CONTACT
+    case EDMI_POT_CONTACT:
+    case EDMI_POT_TETHER:
+        edmi__pot_contact(pot->a, pot->b, pot->kind == EDMI_POT_CONTACT ? -EDMI__ONE : EDMI__ONE,
+                          r, o, split);
+        break;
+#endif
 #if EDMI_WITH_USER
     case EDMI_POT_USER:
     default:
@@ -742,10 +785,25 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
  * length of 1, where d^ = 1). |V_c| + |V_e| carries V's own size where it is the small
  * difference of two large terms (Lennard-Jones near its minimum, the quartic below its rest
  * length). */
-static edmi_real edmi__pot_mag(const edmi_pot_parts *pp, edmi_real d)
+static edmi_real edmi__pot_mag(const edmi_potential *pot, const edmi_pot_parts *pp, edmi_real d)
 {
-    return edmi__abs(pp->c[0]) + edmi__abs(pp->e[0]) +
-           (edmi__abs(pp->v[1]) + edmi__abs(pp->v[2]) * EDMI_EPS * d) * d;
+    edmi_real m = edmi__abs(pp->c[0]) + edmi__abs(pp->e[0]) +
+                  (edmi__abs(pp->v[1]) + edmi__abs(pp->v[2]) * EDMI_EPS * d) * d;
+#if EDMI_WITH_CONTACT
+    /* a one-sided form within d's error of its kink: d^ may lie on the other side, where V',
+     * V'' and V''' as evaluated are 0; V there is below a d e^2, e = |x| + 8 eps (d + b) */
+    if (pot->kind == EDMI_POT_CONTACT || pot->kind == EDMI_POT_TETHER) {
+        edmi_real e = EDMI_R(8.0) * EDMI_EPS * (d + pot->b);
+        edmi_real x = pot->kind == EDMI_POT_CONTACT ? pot->b - d : d - pot->b;
+        if (x > -e) {
+            x = edmi__max(x, EDMI__ZERO) + e;
+            m += pot->a * d * x * x;
+        }
+    }
+#else
+    (void)pot;
+#endif
+    return m;
 }
 
 #if EDMI_WITH_LJ
@@ -822,6 +880,30 @@ static edmi_status edmi__divdiff(const edmi_potential *pot, edmi_real d0, edmi_r
         *dd_d1 = -a / (d0 * d1 * d1);
         return EDMI_OK;
 #endif
+#if EDMI_WITH_CONTACT
+    case EDMI_POT_CONTACT:
+    case EDMI_POT_TETHER: { /* a/3 (y1^3 - y0^3) / (sg (x1 - x0)), y = max(x, 0), dx/dd = sg */
+        edmi_real sg = pot->kind == EDMI_POT_CONTACT ? -EDMI__ONE : EDMI__ONE;
+        edmi_real x0 = sg * (d0 - b), x1 = sg * (d1 - b), q, q1, g;
+        if (x0 > EDMI__ZERO && x1 > EDMI__ZERO) { /* both in: no division */
+            q = x1 * x1 + x1 * x0 + x0 * x0;
+            q1 = EDMI_R(2.0) * x1 + x0;
+        } else if (x1 > EDMI__ZERO) { /* x1 - x0 >= x1 > 0: no cancellation */
+            g = x1 / (x1 - x0);
+            q = x1 * x1 * g;
+            q1 = g * g * (EDMI_R(2.0) * x1 - EDMI_R(3.0) * x0);
+        } else if (x0 > EDMI__ZERO) {
+            g = x0 / (x0 - x1);
+            q = x0 * x0 * g;
+            q1 = x0 * g * g;
+        } else {
+            q = q1 = EDMI__ZERO;
+        }
+        *dd = sg * (a / EDMI_R(3.0)) * q;
+        *dd_d1 = a / EDMI_R(3.0) * q1;
+        return EDMI_OK;
+    }
+#endif
 #if EDMI_WITH_USER
     case EDMI_POT_USER:
     default:
@@ -860,6 +942,11 @@ static edmi_real edmi__pot_span(const edmi_potential *pot, edmi_real d, edmi_rea
         t = t * t * t;
         return t * t * (t * t + EDMI__ONE);
 #endif
+#if EDMI_WITH_CONTACT
+    case EDMI_POT_CONTACT:
+    case EDMI_POT_TETHER:
+        return (d + b) * (d + b) * (d + b);
+#endif
     default:
         (void)b, (void)t, (void)d, (void)s;
         return EDMI__ZERO; /* inverse: a itself, exact */
@@ -890,8 +977,9 @@ static edmi_real edmi__pot_tiny(const edmi_potential *pot, edmi_real d, edmi_rea
 static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi__dw *v,
                          edmi_real *err)
 {
-    edmi_real a = pot->a, b = pot->b, m, xe;
+    edmi_real a = pot->a, b = pot->b, m, xe = EDMI__ZERO;
     edmi__dw x, t;
+    (void)xe; /* read only by the kinds with a rest length */
     switch (pot->kind) {
 #if EDMI_WITH_HARMONIC
     case EDMI_POT_HARMONIC:
@@ -930,6 +1018,19 @@ static void edmi__pot_dw(const edmi_potential *pot, edmi__dw s, edmi__dw d, edmi
         *v = edmi__dw_mul_r(edmi__dw_mul(t, edmi__dw_add_r(t, -EDMI__ONE)),
                             EDMI_R(4.0) * a);
         m = EDMI_R(4.0) * a * t.hi * (t.hi + EDMI__ONE);
+        break;
+#endif
+#if EDMI_WITH_CONTACT
+    case EDMI_POT_CONTACT: /* a/3 x^3 for x = sg (d - b) > 0: as the harmonic spring's x */
+    case EDMI_POT_TETHER:
+        x = edmi__dw_add_r(d, -b);
+        if (pot->kind == EDMI_POT_CONTACT)
+            x = edmi__dw_neg(x);
+        xe = edmi__abs(x.hi) + EDMI__DW_X * (d.hi + b);
+        t = edmi__dw_mul_r(edmi__dw_mul(edmi__dw_mul(x, x), x), a);
+        *v = x.hi > EDMI__ZERO ? edmi__dw_div_r(t, EDMI_R(3.0)) : edmi__dw_of(EDMI__ZERO);
+        /* beyond d's error from the kink, on the free side: V = 0 exactly, and no error */
+        m = x.hi > -EDMI_R(2.0) * EDMI__DW_X * (d.hi + b) ? a * xe * xe * (xe + d.hi) : EDMI__ZERO;
         break;
 #endif
 #if EDMI_WITH_INVERSE
@@ -1039,6 +1140,16 @@ edmi_potential edmi_pot_lj(edmi_real eps, edmi_real sigma)
 }
 
 edmi_potential edmi_pot_inverse(edmi_real k) { return edmi__pot(EDMI_POT_INVERSE, k, EDMI__ZERO); }
+
+edmi_potential edmi_pot_contact(edmi_real k, edmi_real radius)
+{
+    return edmi__pot(EDMI_POT_CONTACT, k, radius);
+}
+
+edmi_potential edmi_pot_tether(edmi_real k, edmi_real len)
+{
+    return edmi__pot(EDMI_POT_TETHER, k, len);
+}
 
 edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx)
 {
@@ -1275,7 +1386,7 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
             w->have1 = 1; /* kept for the guard's plain certificate */
             w->d1 = e.d1;
             w->v1 = e.p1.v[0];
-            w->m1 = edmi__pot_mag(&e.p1, e.d1);
+            w->m1 = edmi__pot_mag(pot, &e.p1, e.d1);
         }
         e.pa = &e.p1; /* d_avg = d_n+1 = d_n (PM's predictor): the values at d_n+1 */
         if ((need & EDMI__NEED_AVG) &&
@@ -1526,7 +1637,7 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         if (!edmi__finite(p0.v[0]) || !edmi__finite(p0.v[1]))
             return EDMI_ERR_RANGE; /* the start's energy or force beyond the range: refused */
         w->v0 = p0.v[0];
-        w->m0 = edmi__pot_mag(&p0, w->d0);
+        w->m0 = edmi__pot_mag(&lk->pot, &p0, w->d0);
         w->dv0 = p0.v[1];
         w->dve0 = p0.e[1];
         w->d3p0 = p0.sp[3];
@@ -2747,7 +2858,7 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
                 EDMI_R(8.0) * edmi__abs(pa.v[2]) * den) +
            EDMI_R(2.0) * edmi__abs(lam) * ddu + edmi__abs(pa.v[2]) * add * ddu + EDMI__DW_TINY +
            add * EDMI__USER_TINY * (EDMI__ONE + add * add / EDMI_R(12.0));
-    *mag1 = edmi__pot_mag(&p1, d1);
+    *mag1 = edmi__pot_mag(&lk->pot, &p1, d1);
     return edmi__finite(*ub) && edmi__finite(*err) ? EDMI_OK : EDMI_ERR_RANGE;
 }
 
@@ -2818,7 +2929,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
                 if (st != EDMI_OK)
                     return st;
                 v1 = pp.v[0];
-                m1 = edmi__pot_mag(&pp, d1);
+                m1 = edmi__pot_mag(&lk->pot, &pp, d1);
                 w->d1 = d1;
                 w->m1 = m1;
             }
@@ -4294,8 +4405,8 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         } else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp, 1) == EDMI_OK) {
             dv = pp.v[1];
             w->beta = dv / d1;
-            s1 += edmi__pot_mag(&pp, d1);
-            so += w->m0 + edmi__pot_mag(&pp, d1);
+            s1 += edmi__pot_mag(&lk->pot, &pp, d1);
+            so += w->m0 + edmi__pot_mag(&lk->pot, &pp, d1);
         }
         for (i = 0; i < 3; i++) /* V'(d) times the unit vector: finite where V' is */
             w->f[i] = edmi__is_linear(&lk->pot) ? w->beta * r1[i] : dv * (r1[i] / d1);

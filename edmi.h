@@ -140,6 +140,10 @@
 #ifndef EDMI_WITH_USER
 #define EDMI_WITH_USER 1
 #endif
+/** The one-sided (contact) potentials EDMI_POT_CONTACT and EDMI_POT_TETHER, one option. */
+#ifndef EDMI_WITH_CONTACT
+#define EDMI_WITH_CONTACT 1
+#endif
 /** The effects beyond links and the loader: edmi_set_field(), edmi_set_force() (the force
  *  ports) and edmi_load_scene(). Moving anchors (edmi_move_anchor()) are always in. */
 #ifndef EDMI_WITH_FIELD
@@ -179,8 +183,8 @@
 #error "edmi: EDMI_WITH_LG_QUOTIENT needs EDMI_WITH_LG"
 #endif
 #if !(EDMI_WITH_HARMONIC || EDMI_WITH_QUARTIC || EDMI_WITH_NEO_HOOKE || EDMI_WITH_LJ || \
-      EDMI_WITH_INVERSE || EDMI_WITH_USER)
-#error "edmi: at least one potential EDMI_WITH_HARMONIC, ... or EDMI_WITH_USER must be 1"
+      EDMI_WITH_INVERSE || EDMI_WITH_USER || EDMI_WITH_CONTACT)
+#error "edmi: at least one potential EDMI_WITH_HARMONIC, ... or EDMI_WITH_CONTACT must be 1"
 #endif
 /* Array length behind EDMI_MAX_DAMPERS: C forbids zero-length arrays. */
 #if EDMI_MAX_DAMPERS > 0
@@ -406,7 +410,11 @@ typedef enum edmi_pot_kind {
     EDMI_POT_NEO_HOOKE,    /*!< V = c rb^2/6 ((r/rb)^2 + 2 rb/r - 3); a = c > 0, b = rb > 0 */
     EDMI_POT_LJ,           /*!< V = 4 eps ((s/r)^12 - (s/r)^6);  a = eps > 0, b = s > 0 */
     EDMI_POT_INVERSE,      /*!< V = -k/r (gravity k = G m_A m_B > 0, Coulomb k < 0); a = k != 0 */
-    EDMI_POT_USER          /*!< callbacks fn (required) and dd (optional) with ctx */
+    EDMI_POT_USER,         /*!< callbacks fn (required) and dd (optional) with ctx */
+    EDMI_POT_CONTACT,      /*!< compression only: V = k/3 (R - r)^3 for r < R, else 0 (two balls
+                                whose radii add to R, a ball about an anchor); a = k > 0, b = R > 0 */
+    EDMI_POT_TETHER        /*!< tension only: V = k/3 (r - L)^3 for r > L, else 0 (a slack rope
+                                of length L, a body kept within a sphere); a = k > 0, b = L >= 0 */
 } edmi_pot_kind;
 
 /** A pair potential. Build it with edmi_pot_harmonic() etc. */
@@ -762,6 +770,8 @@ edmi_potential edmi_pot_neo_hooke(edmi_real c, edmi_real rbar);
 edmi_potential edmi_pot_lj(edmi_real eps, edmi_real sigma);
 edmi_potential edmi_pot_inverse(edmi_real k);
 edmi_potential edmi_pot_user(edmi_user_pot_fn fn, edmi_user_dd_fn dd, void *ctx);
+edmi_potential edmi_pot_contact(edmi_real k, edmi_real radius);
+edmi_potential edmi_pot_tether(edmi_real k, edmi_real len);
 
 /* ------------------------------------------------------------------------------------------
  * Step it

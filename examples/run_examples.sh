@@ -98,6 +98,22 @@ bal=$("$sim" "$S/hanging_chain.scene" --energy-balance --quiet | sed -n 's/^bala
 echo "energy balance, hanging_chain.scene (PM, 5000 steps, field + 6 dampers + force port):"
 echo "  ${bal:-FAILED}"
 [ -n "$bal" ] || failed=1
+# One-sided potentials (ropes that only pull, balls that only push): each scheme on the cradle,
+# whose contacts begin and end inside steps. Exit status non-zero if a run fails, its energy
+# balance misses, or a guarded scheme's H rose beyond the work and the tank.
+echo "contact, newtons_cradle.scene (2 s in 20000 steps; tethers and contacts, docs/contact.md):"
+for s in mp lg ge pm pt; do
+    c=$("$sim" "$S/newtons_cradle.scene" --scheme "$s" --energy-balance --quiet) || failed=1
+    fin=$(sed -n 's/^|H-H0|\/|H0| *final \([^,]*\),.*/\1/p' <<<"$c")
+    beyond=$(sed -n 's/^H steps.* supplied in \([0-9]*\).*/\1/p' <<<"$c")
+    moved=$(sed -n 's/^guard .*changed \([0-9]*\) steps.*/\1/p' <<<"$c")
+    okb=$(sed -n 's/^balance .*: \(ok\|EXCEEDED\)$/\1/p' <<<"$c")
+    printf '  %s: (H - H0)/H0 at 2 s %s; H rose beyond the work and the tank on %s steps; guard moves %s; energy balance %s\n' \
+        "${s^^}" "${fin:-?}" "${beyond:-?}" "${moved:-n/a}" "${okb:-?}"
+    if [ "$okb" != ok ] || { [ "$s" != mp ] && [ "$s" != lg ] && [ "${beyond:-1}" != 0 ]; }; then
+        failed=1
+    fi
+done
 awk -v a="$t0" -v b="$t1" -v n="${#runs[@]}" -v j="$jobs" \
     'BEGIN { printf "total: %d runs in %.1f s wall, %d at a time\n", n, b - a, j }'
 if [ "$failed" != 0 ]; then

@@ -57,6 +57,7 @@
 /* #define EDMI_WITH_LJ 1 */
 /* #define EDMI_WITH_INVERSE 1 */
 /* #define EDMI_WITH_USER 1 */
+/* #define EDMI_WITH_CONTACT 1 */
 /* edmi_set_field(), edmi_set_force() and edmi_load_scene(): */
 /* #define EDMI_WITH_FIELD 1 */
 /* #define EDMI_WITH_PORTS 1 */

@@ -149,7 +149,7 @@ $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),$(eval $(call tgt_cap_rul
 # compiled out of the default build (an upper-case name X is -DEDMI_WITH_X=0; DAMPERS is
 # EDMI_MAX_DAMPERS=0), then the configurations the Makefile tests (FEAT_*), and coupling at a
 # one-body capacity (1 body, 2 links), without and with the damper README's haptic recipe adds.
-TGT_OPTS := default MP LG LG_QUOTIENT GE PM PT HARMONIC QUARTIC NEO_HOOKE LJ INVERSE USER \
+TGT_OPTS := default MP LG LG_QUOTIENT GE PM PT HARMONIC QUARTIC NEO_HOOKE LJ INVERSE USER CONTACT \
             FIELD PORTS SCENE DAMPERS $(FEATURES) coupling-1 coupling-damper-1
 FEAT_coupling-1 = $(FEAT_coupling) -DEDMI_MAX_BODIES=1 -DEDMI_MAX_LINKS=2
 FEAT_coupling-damper-1 = $(filter-out -DEDMI_MAX_DAMPERS=0,$(FEAT_coupling-1)) -DEDMI_MAX_DAMPERS=1

@@ -88,7 +88,7 @@ done
 # Feature options the library cannot work with stop the build with edmi.h's #error: no scheme,
 # no potential, the quotient form without LG, GE/PM/PT without the guard.
 for opts in "-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0 -DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0|at least one scheme" \
-        "-DEDMI_WITH_HARMONIC=0 -DEDMI_WITH_QUARTIC=0 -DEDMI_WITH_NEO_HOOKE=0 -DEDMI_WITH_LJ=0 -DEDMI_WITH_INVERSE=0 -DEDMI_WITH_USER=0|at least one potential" \
+        "-DEDMI_WITH_HARMONIC=0 -DEDMI_WITH_QUARTIC=0 -DEDMI_WITH_NEO_HOOKE=0 -DEDMI_WITH_LJ=0 -DEDMI_WITH_INVERSE=0 -DEDMI_WITH_USER=0 -DEDMI_WITH_CONTACT=0|at least one potential" \
         "-DEDMI_WITH_LG=0 -DEDMI_WITH_LG_QUOTIENT=1|EDMI_WITH_LG_QUOTIENT needs" \
         "-DEDMI_WITH_GUARD=0|GE, PM and PT carry the guard"; do
     defs=${opts%|*} want=${opts#*|}
@@ -192,8 +192,8 @@ int main(void)
 EOC
 feat_coupling="-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0 -DEDMI_WITH_GE=0 -DEDMI_WITH_PT=0
     -DEDMI_WITH_QUARTIC=0 -DEDMI_WITH_NEO_HOOKE=0 -DEDMI_WITH_LJ=0 -DEDMI_WITH_INVERSE=0
-    -DEDMI_WITH_USER=0 -DEDMI_WITH_FIELD=0 -DEDMI_WITH_PORTS=0 -DEDMI_WITH_SCENE=0
-    -DEDMI_MAX_DAMPERS=0"
+    -DEDMI_WITH_USER=0 -DEDMI_WITH_CONTACT=0 -DEDMI_WITH_FIELD=0 -DEDMI_WITH_PORTS=0
+    -DEDMI_WITH_SCENE=0 -DEDMI_MAX_DAMPERS=0"
 for real in float double; do
     for cfg in "coupling|EDMI_PM|$feat_coupling" "decaying|EDMI_GE|-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0" \
             "conservative|EDMI_LG|-DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0 -DEDMI_WITH_GUARD=0"; do

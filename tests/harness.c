@@ -181,6 +181,8 @@ int th_has_pot(edmi_pot_kind k)
     case EDMI_POT_LJ: return EDMI_WITH_LJ;
     case EDMI_POT_INVERSE: return EDMI_WITH_INVERSE;
     case EDMI_POT_USER: return EDMI_WITH_USER;
+    case EDMI_POT_CONTACT:
+    case EDMI_POT_TETHER: return EDMI_WITH_CONTACT;
     default: return 0;
     }
 }

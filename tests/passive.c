@@ -163,6 +163,15 @@ static int tp_pot(const edmi_potential *p, tp_q s, tp_q d, tp_q *v, tp_q *mag)
         *v = -a / d;
         *mag = (tp_q)8.0 * tp_absq(a) / d;
         return 1;
+    case EDMI_POT_CONTACT: /* a/3 x^3 for x > 0, x = b - d (contact) or d - b (tether) */
+    case EDMI_POT_TETHER:  /* V' d = a x^2 d */
+        x = p->kind == EDMI_POT_CONTACT ? b - d : d - b;
+        xe = tp_absq(x) + (tp_q)4.0 * TP_Q_EPS * (d + b);
+        *v = x > (tp_q)0.0 ? a * x * x * x / (tp_q)3.0 : (tp_q)0.0;
+        *mag = x > (tp_q)-8.0 * TP_Q_EPS * (d + b) /* else V = 0 exactly */
+                   ? (tp_q)4.0 * a * xe * xe * (d + b + xe) + (tp_q)4.0 * *v
+                   : (tp_q)0.0;
+        return 1;
     case EDMI_POT_USER: /* the built-in whose V its callback gives (tp_user_builtin) */
         return tp_user_builtin(p, &bp) && bp.kind != EDMI_POT_USER && tp_pot(&bp, s, d, v, mag);
     default:
@@ -687,6 +696,18 @@ static int tp_pot_dw(const edmi_potential *p, tp_dw s, tp_dw *v, double *mag)
         d = tp_dw_sqrt(s);
         *v = tp_dw_div(tp_dw_of(-a), d);
         *mag = tp_absd(a) / d.hi;
+        return 1;
+    case EDMI_POT_CONTACT:
+    case EDMI_POT_TETHER:
+        d = tp_dw_sqrt(s);
+        x = tp_dw_add_d(d, -b);
+        if (p->kind == EDMI_POT_CONTACT)
+            x = tp_dw_neg(x);
+        big = d.hi + b;
+        xe = tp_absd(x.hi) + 0x1p-40 * big;
+        t = tp_dw_mul_d(tp_dw_mul(tp_dw_mul(x, x), x), a);
+        *v = x.hi > 0.0 ? tp_dw_div(t, tp_dw_of(3.0)) : tp_dw_of(0.0);
+        *mag = x.hi > -0x1p-39 * big ? a * big * xe * xe : 0.0; /* else V = 0 exactly */
         return 1;
     case EDMI_POT_USER: /* the built-in whose V its callback gives (tp_user_builtin) */
         return tp_user_builtin(p, &bp) && bp.kind != EDMI_POT_USER && tp_pot_dw(&bp, s, v, mag);

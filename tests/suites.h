@@ -3,6 +3,7 @@
 #define EDMI_TEST_SUITES_H
 
 void suite_potentials(void); /* test_potentials.c: derivatives, splits, divided differences */
+void suite_contact(void);    /* test_contact.c: one-sided potentials, collisions, tethers */
 void suite_invalid(void);    /* test_invalid.c: every bad input, system unchanged (memcmp) */
 void suite_fuzz_findings(void); /* test_fuzz_findings.c: the API fuzzer's findings, fixed */
 void suite_tangent(void);    /* test_tangent.c: consistent tangent vs finite differences, Newton */

@@ -7,6 +7,7 @@ int main(void)
     th_puts(edmi_is_double_precision() ? "edmi tests, EDMI_REAL=double\n"
                                        : "edmi tests, EDMI_REAL=float\n");
     suite_potentials();
+    suite_contact();
     suite_invalid();
     suite_fuzz_findings();
     suite_tangent();

@@ -341,13 +341,15 @@ static int sim__pot_spec_parse(sim__ctx *c, int i, int pair, sim__pot_spec *ps)
 {
     static const char *const nm_harm[] = {"k", "r0"}, *const nm_quart[] = {"k", "L"},
                              *const nm_neo[] = {"c", "rbar"}, *const nm_lj[] = {"eps", "sigma"},
-                             *const nm_inv[] = {"k"}, *const nm_grav[] = {"G"};
+                             *const nm_inv[] = {"k"}, *const nm_grav[] = {"G"},
+                             *const nm_contact[] = {"k", "R"}, *const nm_tether[] = {"k", "L"};
     static const char *const nm_pot[] = {"potential"};
     const char *w;
     if (c->ntok <= i)
         return sim__count(c, i, 1, nm_pot,
                           "... POTENTIAL PARAMS; potentials: harmonic k r0, quartic k L, "
-                          "neo_hooke c rbar, lj eps sigma, inverse k, gravity G");
+                          "neo_hooke c rbar, lj eps sigma, inverse k, gravity G, contact k R, "
+                          "tether k L");
     w = c->tok[i];
     ps->gravity = 0;
     ps->b = 0.0;
@@ -381,6 +383,18 @@ static int sim__pot_spec_parse(sim__ctx *c, int i, int pair, sim__pot_spec *ps)
             return -1;
         if (ps->a == 0.0)
             return sim__fail(c, "%s: inverse k = %s must be non-zero", c->key, c->tok[i + 1]);
+    } else if (strcmp(w, "contact") == 0) {
+        ps->kind = EDMI_POT_CONTACT;
+        if (sim__count(c, i + 1, 2, nm_contact, "contact k R") ||
+            sim__positive(c, i + 1, "contact k", &ps->a) ||
+            sim__positive(c, i + 2, "contact R", &ps->b))
+            return -1;
+    } else if (strcmp(w, "tether") == 0) {
+        ps->kind = EDMI_POT_TETHER;
+        if (sim__count(c, i + 1, 2, nm_tether, "tether k L") ||
+            sim__positive(c, i + 1, "tether k", &ps->a) ||
+            sim__nonnegative(c, i + 2, "tether L", &ps->b))
+            return -1;
     } else if (strcmp(w, "gravity") == 0) {
         if (!pair)
             return sim__fail(c, "%s: gravity needs two bodies (k = G m_A m_B); tie a body to a "
@@ -392,7 +406,7 @@ static int sim__pot_spec_parse(sim__ctx *c, int i, int pair, sim__pot_spec *ps)
             return -1;
     } else {
         return sim__fail(c, "%s: unknown potential '%s' (expected harmonic, quartic, neo_hooke, "
-                         "lj, inverse or gravity)", c->key, w);
+                         "lj, inverse, gravity, contact or tether)", c->key, w);
     }
     return 0;
 }

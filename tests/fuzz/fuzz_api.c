@@ -232,10 +232,15 @@ static edmi_potential fz_potential(fz_in *in, int *n_user)
         }
         return p;
     }
-    default: /* an invalid kind */
-        p = edmi_pot_harmonic(a, b);
-        p.kind = (edmi_pot_kind)(int)(fz_u8(in) % 2u ? 6 : -1);
-        return p;
+    default: /* the one-sided forms, or an invalid kind */
+        switch (fz_u8(in) % 4u) {
+        case 0: return edmi_pot_contact(a, b);
+        case 1: return edmi_pot_tether(a, b);
+        default:
+            p = edmi_pot_harmonic(a, b);
+            p.kind = (edmi_pot_kind)(int)(fz_u8(in) % 2u ? 42 : -1);
+            return p;
+        }
     }
 }
 
