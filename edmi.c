@@ -64,6 +64,8 @@
  * The three loops that touch work->kd are also inside #if EDMI_MAX_DAMPERS > 0: GCC 12 warns
  * of an out-of-bounds kd[] access in the unreachable body otherwise. */
 #define EDMI__N_DAMPERS(s) (EDMI_MAX_DAMPERS > 0 ? (s)->n_dampers : 0)
+/* Walls in use, the same way (EDMI_MAX_WALLS = 0: the constant 0). */
+#define EDMI__N_WALLS(s) (EDMI_MAX_WALLS > 0 ? (s)->n_walls : 0)
 /* The schemes and potential kinds this build carries (edmi.h, EDMI_WITH_*): bit k is scheme
  * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT of a constant are constants, so a test such as
  * EDMI__HAS_SCHEME(EDMI_LG) && p->scheme == EDMI_LG drops the code behind it when LG is out;
@@ -1610,8 +1612,15 @@ static void edmi__link_vector(const edmi_system *sys, const edmi_link *lk, edmi_
     edmi__sub(sys->body[lk->a].q, lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q, r);
 }
 
+/* The gap of body position q to wall wl. */
+static edmi_real edmi__wall_gap(const edmi_wall *wl, const edmi_real q[3])
+{
+    return edmi__dot(wl->n, q) - wl->c;
+}
+
 /* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use, and
- * where each anchor is at the end of the step (edmi_move_anchor). */
+ * where each anchor is at the end of the step (edmi_move_anchor); of every wall, g_n and the
+ * values there. */
 static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *work)
 {
     int i, back = sys->n_links;
@@ -1645,6 +1654,20 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
     }
     for (i = 0; i < sys->n_moving; i++)
         edmi__copy3(sys->anchor_next[sys->moving[i]], work->lw[sys->moving[i]].x1);
+    for (i = 0; i < EDMI__N_WALLS(sys); i++) {
+        const edmi_wall *wl = &sys->wall[i];
+        edmi_link_ws *w = &work->ww[i];
+        edmi_pot_parts p0;
+        w->d0 = edmi__wall_gap(wl, sys->body[wl->a].q);
+        if (edmi__pot_parts(&wl->pot, w->d0, &p0, 1) != EDMI_OK || !edmi__finite(w->d0) ||
+            !edmi__finite(p0.v[0]) || !edmi__finite(p0.v[1]))
+            return EDMI_ERR_RANGE; /* the start's energy or force beyond the range: refused */
+        w->v0 = p0.v[0];
+        w->dv0 = p0.v[1];
+        w->dve0 = p0.e[1];
+        w->d3p0 = p0.sp[3];
+        w->d3m0 = p0.sm[3];
+    }
     return EDMI_OK;
 }
 
@@ -1689,6 +1712,63 @@ static void edmi__link_tangent(const edmi_link_ws *w, edmi_real dt, edmi_real k[
         for (c = 0; c < 3; c++)
             k[3 * i + c] = dt * (w->gamma * w->rm[i] * w->u[c] +
                                  (i == c ? EDMI__HALF * w->beta : EDMI__ZERO));
+}
+
+/* ---- walls --------------------------------------------------------------------------------
+ * A wall is a link whose length is the body's gap g = n.q - c to a plane (edmi_wall): g is
+ * linear in q, so the schemes' Lambda (section 3.4) of the gap is the wall's discrete
+ * derivative and its force on the body is -Lambda n, whose work over a step is exactly
+ * -Lambda (g_n+1 - g_n). Every Lambda above applies with d_n, d_n+1 read as g_n, g_n+1 (and
+ * MP's mid-point as the mean gap); LG takes the closed-form divided difference, which every
+ * potential a wall takes has. docs/contact.md. */
+
+/* The wall's discrete force f = dt Lambda n for the body's end-of-step position q1, with
+ * Lambda and d Lambda / d g_n+1 kept in its workspace (beta, gamma). */
+static edmi_status edmi__wall_force(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                    int j, const edmi_real q1[3], edmi_real f[3])
+{
+    const edmi_wall *wl = &sys->wall[j];
+    const edmi_potential *pot = &wl->pot;
+    edmi_scheme s = sys->params.scheme;
+    edmi_link_ws *w = &work->ww[j];
+    edmi__at_end e;
+    edmi_real lam = EDMI__ZERO, dlam = EDMI__ZERO;
+    edmi_status st = EDMI_OK;
+    e.d1 = edmi__wall_gap(wl, q1);
+    if (!edmi__finite(e.d1))
+        return EDMI_ERR_DIVERGED;
+    if (EDMI__HAS_SCHEME(EDMI_MP) && s == EDMI_MP) {
+        st = edmi__pot_parts(pot, EDMI__HALF * w->d0 + EDMI__HALF * e.d1, &e.pavg, 0);
+        lam = e.pavg.v[1];
+        dlam = EDMI__HALF * e.pavg.v[2];
+    } else if (EDMI__HAS_SCHEME(EDMI_LG) && s == EDMI_LG) {
+        st = edmi__divdiff(pot, w->d0, e.d1, &lam, &dlam);
+    } else {
+        st = edmi__pot_parts(pot, e.d1, &e.p1, 1);
+        e.pa = &e.p1;
+        if (st == EDMI_OK && s == EDMI_PM && e.d1 != w->d0) {
+            st = edmi__pot_parts(pot, EDMI__HALF * w->d0 + EDMI__HALF * e.d1, &e.pavg, 0);
+            e.pa = &e.pavg;
+        }
+        if (st == EDMI_OK)
+            edmi__lambda_decaying(s, w, &e, &lam, &dlam);
+    }
+    if (st != EDMI_OK)
+        return st;
+    w->beta = lam;
+    w->gamma = dlam;
+    edmi__scale3(dt * lam, wl->n, f);
+    return EDMI_OK;
+}
+
+/* The wall's tangent block d f / d q_n+1 = dt (d Lambda / d g) n n^T. */
+static void edmi__wall_tangent(const edmi_wall *wl, const edmi_link_ws *w, edmi_real dt,
+                               edmi_real k[9])
+{
+    int i, c;
+    for (i = 0; i < 3; i++)
+        for (c = 0; c < 3; c++)
+            k[3 * i + c] = dt * w->gamma * wl->n[i] * wl->n[c];
 }
 
 /* Linear viscous damper along a link (docs/api.md, "Features"): impulse
@@ -1812,6 +1892,12 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
             return st;
         nsw += sw;
         edmi__add3(f, rp[lk->a]);
+    }
+    for (k = 0; k < EDMI__N_WALLS(sys); k++) {
+        st = edmi__wall_force(sys, work, dt, k, q1[sys->wall[k].a], f);
+        if (st != EDMI_OK)
+            return st;
+        edmi__add3(f, rp[sys->wall[k].a]);
     }
     st = edmi__effects_residual(sys, work, dt, q1, rp);
     if (st != EDMI_OK)
@@ -2010,6 +2096,10 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
         edmi__link_tangent(&work->lw[work->order[j]], dt, k);
         edmi__scatter_anchor(g, row, lk->a, k, work->h[lk->a]);
     }
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) {
+        edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, k);
+        edmi__scatter_anchor(g, row, sys->wall[j].a, k, work->h[sys->wall[j].a]);
+    }
 #if EDMI_MAX_DAMPERS > 0
     for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
         const edmi_link *lk = &sys->link[sys->damper[j].link];
@@ -2195,7 +2285,7 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         rhs[2] = -work->rq[a][2] - h * work->rp[a][2];
     }
     /* (a one-body capacity compiles the one-body solves alone) */
-    if (nb == 1 && sys->n_links == 1 && EDMI__N_DAMPERS(sys) == 0) {
+    if (nb == 1 && sys->n_links == 1 && EDMI__N_DAMPERS(sys) == 0 && EDMI__N_WALLS(sys) == 0) {
         st = edmi__solve_one_link(&work->lw[0], work->h[0], dt, work->rhs);
         if (st != EDMI_OK)
             return st;
@@ -2213,6 +2303,11 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         for (j = 0; j < EDMI__N_DAMPERS(sys); j++)
             for (i = 0; i < 9; i++)
                 g[i] += h * work->kd[j][i];
+        for (j = 0; j < EDMI__N_WALLS(sys); j++) {
+            edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, k);
+            for (i = 0; i < 9; i++)
+                g[i] += h * k[i];
+        }
         g[0] += EDMI__ONE;
         g[4] += EDMI__ONE;
         g[8] += EDMI__ONE;
@@ -2220,7 +2315,8 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         if (st != EDMI_OK)
             return st;
         edmi__copy3(x, work->rhs);
-    } else if (nb == 2 && work->n_pair == sys->n_links && !EDMI__COUPLED(sys)) {
+    } else if (nb == 2 && work->n_pair == sys->n_links && !EDMI__COUPLED(sys) &&
+               EDMI__N_WALLS(sys) == 0) {
         work->kb = 0; /* nothing factored to reuse */
         st = edmi__solve_two_body(sys, work, dt);
         if (st != EDMI_OK)
@@ -2417,6 +2513,17 @@ static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real 
         acc[2 * lk->a + 1] += x;
         if (lk->b != EDMI_ANCHOR)
             acc[2 * lk->b + 1] += x;
+    }
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* a link to the plane, of slope dt Lambda' */
+        const edmi_wall *wl = &sys->wall[j];
+        const edmi_link_ws *w = &work->ww[j];
+        edmi_real k = dt * edmi__abs(w->gamma);
+        if (wl->pot.kind == EDMI_POT_HARMONIC) /* as a linear spring: its slope everywhere */
+            k = edmi__max(k, dt * edmi__abs(wl->pot.a));
+        acc[2 * wl->a + 1] +=
+            EDMI_R(4.0) * (EDMI_EPS * dt * edmi__abs(w->beta) +
+                           EDMI_R(3.0) * k * (EDMI_EPS * (edmi__norm(q1[wl->a]) + edmi__abs(wl->c)) +
+                                              acc[2 * wl->a]));
     }
 #if EDMI_MAX_DAMPERS > 0
     for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
@@ -2879,7 +2986,14 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
     edmi_real s1 = EDMI__ZERO, sch = EDMI__ZERO;
     edmi_real gn = EDMI__HAS_FIELD(sys) ? edmi__norm(sys->g) : EDMI__ZERO;
     int a, i, j, n = 2;
-    pl->ok = !EDMI__COUPLED(sys);
+    pl->ok = !EDMI__COUPLED(sys) && EDMI__N_WALLS(sys) == 0; /* walls: double-word alone */
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* their share of S, for the tank's capacity */
+        const edmi_wall *wl = &sys->wall[j];
+        edmi_pot_parts pp;
+        edmi_real g1 = edmi__wall_gap(wl, q1[wl->a]);
+        if (edmi__pot_parts(&wl->pot, g1, &pp, 0) == EDMI_OK)
+            s1 += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(wl->c));
+    }
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real m2 = EDMI_R(2.0) * bd->m, t = EDMI__ZERO, mag = EDMI__ZERO;
@@ -2991,6 +3105,16 @@ static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *wor
         for (i = 0; i < 3; i++)
             *x = edmi__max(*x, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
     }
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* V and V' times the gap's terms, both ends */
+        const edmi_wall *wl = &sys->wall[j];
+        const edmi_link_ws *w = &work->ww[j];
+        edmi_real g1 = edmi__wall_gap(wl, q1[wl->a]);
+        edmi_pot_parts pp;
+        if (edmi__pot_parts(&wl->pot, g1, &pp, 0) == EDMI_OK)
+            *so += edmi__abs(pp.v[0]) + edmi__abs(w->v0) +
+                   (edmi__abs(pp.v[1]) + edmi__abs(w->dv0)) *
+                       (edmi__norm(q1[wl->a]) + edmi__norm(sys->body[wl->a].q) + edmi__abs(wl->c));
+    }
 }
 
 /* The links' underflow allowance the plain certificate adds (edmi__pot_tiny at both ends),
@@ -3090,6 +3214,46 @@ static void edmi__link_v_dw(const edmi_potential *pot, edmi__dw r[3], const edmi
         *s = edmi__dw_up2(bal, *s);
         *v = edmi__dw_up2(bal, *v);
         *e = edmi__up2(bal, *e);
+    }
+}
+
+/* A wall's gap g = n.q - c at body position q and V(g), in double-word with the bound *err on
+ * V's error, in the balance's units (V times scale^2). The products n_i q_i are exact and
+ * their sum errs by a few u^2 of G = sum |n_i q_i| + |c| (taken as EDMI__DW_X G), which
+ * reaches V through V' (the gap's harmonic k x or one-sided k x^2, x = g - b or b - g):
+ * m = a xe^(p-1) (xe + G + b), xe = |x| + EDMI__DW_X (G + b), p = 2 or 3; a one-sided form
+ * more than twice that from its kink on the free side is 0 exactly, with no error. */
+static void edmi__wall_v_dw(const edmi_wall *wl, const edmi_real q[3], const edmi__balance *bal,
+                            edmi__dw *g, edmi__dw *v, edmi_real *err)
+{
+    const edmi_potential *pot = &wl->pot;
+    edmi_real a = pot->a, b = pot->b, big = edmi__abs(wl->c), xe, m;
+    edmi__dw x;
+    int i;
+    *g = edmi__dw_of(-wl->c);
+    for (i = 0; i < 3; i++) {
+        *g = edmi__dw_add(*g, edmi__two_prod(wl->n[i], q[i]));
+        big += edmi__abs(wl->n[i] * q[i]);
+    }
+    x = edmi__dw_add_r(*g, -b);
+    if (pot->kind == EDMI_POT_CONTACT)
+        x = edmi__dw_neg(x);
+    big += b;
+    xe = edmi__abs(x.hi) + EDMI__DW_X * big;
+    if (pot->kind == EDMI_POT_HARMONIC) {
+        *v = edmi__dw_mul_r(edmi__dw_mul(x, x), EDMI__HALF * a);
+        m = a * xe * (xe + big);
+    } else {
+        *v = x.hi > EDMI__ZERO
+                 ? edmi__dw_div_r(edmi__dw_mul_r(edmi__dw_mul(edmi__dw_mul(x, x), x), a), EDMI_R(3.0))
+                 : edmi__dw_of(EDMI__ZERO);
+        m = x.hi > -EDMI_R(2.0) * EDMI__DW_X * big ? a * xe * xe * (xe + big) : EDMI__ZERO;
+    }
+    *err = EDMI__DW_ERR * m +
+           EDMI__DW_TINY * (EDMI__ONE + EDMI_R(16.0) * a * (EDMI__ONE + (xe + big) * (xe + big)));
+    if (bal->scale != EDMI__ONE) {
+        *v = edmi__dw_up2(bal, *v);
+        *err = edmi__up2(bal, *err);
     }
 }
 
@@ -3202,6 +3366,26 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         bal->size_v += w->bal_size;
         if (bal->scheme_on)
             bal->scheme = edmi__dw_add_z(bal->scheme, edmi__dw_pair(w->bal_sc));
+    }
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* every call: a moved body's walls too */
+        const edmi_wall *wl = &sys->wall[j];
+        edmi__dw g0, g1, v0, v1, dv;
+        edmi_real e0, e1;
+        if (edmi__same3(q1[wl->a], sys->body[wl->a].q))
+            continue; /* exactly 0 */
+        edmi__wall_v_dw(wl, sys->body[wl->a].q, bal, &g0, &v0, &e0);
+        edmi__wall_v_dw(wl, q1[wl->a], bal, &g1, &v1, &e1);
+        dv = edmi__dw_sub(v1, v0);
+        bal->dv = edmi__dw_add_z(bal->dv, dv);
+        bal->err_v += e0 + e1;
+        bal->size_v += edmi__abs(v0.hi) + edmi__abs(v1.hi) +
+                       edmi__up2(bal, edmi__abs(work->ww[j].beta) *
+                                          (edmi__abs(g0.hi) + edmi__abs(g1.hi) + edmi__abs(wl->c)));
+        if (bal->scheme_on) /* the work of f = dt Lambda n per dt, Lambda (g_n+1 - g_n), less dv */
+            bal->scheme = edmi__dw_add_z(
+                bal->scheme,
+                edmi__dw_sub(edmi__dw_up2(bal, edmi__dw_mul_r(edmi__dw_sub(g1, g0), work->ww[j].beta)),
+                             dv));
     }
     if (EDMI__HAS_FIELD(sys)) /* V = -sum (M 1)_a g . q_a, each mass entry exact */
         for (a = 0; a < sys->n_bodies; a++) {
@@ -4332,6 +4516,11 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
         for (i = 0; i < 3; i++)
             w->f[i] += imp[i] / dt;
     }
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) {
+        edmi__scale3(work->ww[j].beta, sys->wall[j].n, work->ww[j].f);
+        if (!edmi__finite3(work->ww[j].f))
+            return EDMI_ERR_RANGE;
+    }
     for (i = 0; i < sys->n_moving; i++) {
         j = sys->moving[i];
         wa = edmi__dw_sub(wa, edmi__dw_work(work->lw[j].f, work->lw[j].x1, sys->link[j].anchor, EDMI__ONE));
@@ -4412,6 +4601,12 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
             w->f[i] = edmi__is_linear(&lk->pot) ? w->beta * r1[i] : dv * (r1[i] / d1);
         if (!edmi__finite3(w->f))
             return EDMI_ERR_RANGE; /* a moved anchor's force (the kept links' are V'(d_n)) */
+    }
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* positions kept: V'(g_n) n, V unchanged */
+        work->ww[j].beta = work->ww[j].dv0;
+        edmi__scale3(work->ww[j].dv0, sys->wall[j].n, work->ww[j].f);
+        s1 += edmi__abs(work->ww[j].v0) +
+              edmi__abs(work->ww[j].dv0) * (edmi__abs(work->ww[j].d0) + edmi__abs(sys->wall[j].c));
     }
     res->work_ext = EDMI__ZERO;
     res->diss_damping = EDMI__ZERO;
@@ -4692,6 +4887,19 @@ static int edmi__sums_fit(const edmi_step_result *res, const edmi_step_result *s
            edmi__finite(res->diss_guard + sub->diss_guard);
 }
 
+/* The step's mean link and wall forces into the system's outputs (from each one's f, or with
+ * substeps from fsum, their sum over the substeps). */
+static void edmi__store_forces(edmi_system *sys, const edmi_workspace *work, int summed)
+{
+    int j;
+    for (j = 0; j < sys->n_links; j++)
+        edmi__copy3(summed ? work->lw[j].fsum : work->lw[j].f, sys->link_force[j]);
+#if EDMI_MAX_WALLS > 0 /* (GCC 12 warns of the unreachable body's accesses otherwise) */
+    for (j = 0; j < EDMI__N_WALLS(sys); j++)
+        edmi__copy3(summed ? work->ww[j].fsum : work->ww[j].f, sys->wall_force[j]);
+#endif
+}
+
 /* Put the step's start back (the bodies, the tank and the moving anchors), after substeps
  * that failed: the system is then bit-identical to before the call. */
 static void edmi__restore(edmi_system *sys, const edmi_workspace *work, edmi_real tank,
@@ -4750,8 +4958,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         res->substeps = res->fallbacks = 1;
         res->cause = cause;
         edmi__commit(sys, work, res->tank);
-        for (j = 0; j < sys->n_links; j++)
-            edmi__copy3(work->lw[j].f, sys->link_force[j]);
+        edmi__store_forces(sys, work, 0);
         return EDMI_OK;
     }
     work->kept = 0; /* the kept factors are of dt's matrix: substeps factor their own */
@@ -4762,6 +4969,9 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     for (j = 0; j < sys->n_links; j++)
         for (i = 0; i < 3; i++)
             work->lw[j].fsum[i] = EDMI__ZERO;
+    for (j = 0; j < EDMI__N_WALLS(sys); j++)
+        for (i = 0; i < 3; i++)
+            work->ww[j].fsum[i] = EDMI__ZERO;
     for (i = 0; i < n_moving; i++) {
         j = sys->moving[i];
         edmi__copy3(sys->link[j].anchor, work->lw[j].xs);
@@ -4814,6 +5024,9 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         for (j = 0; j < sys->n_links; j++)
             for (i = 0; i < 3; i++)
                 work->lw[j].fsum[i] += frac * work->lw[j].f[i];
+        for (j = 0; j < EDMI__N_WALLS(sys); j++)
+            for (i = 0; i < 3; i++)
+                work->ww[j].fsum[i] += frac * work->ww[j].f[i];
         edmi__commit(sys, work, sub.tank);
         pos += units;
         while (level > 1 && pos % (2 * units) == 0) { /* back to longer substeps */
@@ -4823,8 +5036,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     }
     res->iterations = iterations;
     res->halvings = halvings;
-    for (j = 0; j < sys->n_links; j++)
-        edmi__copy3(work->lw[j].fsum, sys->link_force[j]);
+    edmi__store_forces(sys, work, 1);
     return EDMI_OK;
 }
 
@@ -4841,7 +5053,6 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
 {
     edmi_step_result local;
     edmi_status st;
-    int i;
     if (!res)
         res = &local;
     edmi__clear_result(res);
@@ -4863,8 +5074,7 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
     st = edmi__attempt(sys, work, dt, res);
     if (st == EDMI_OK) {
         edmi__commit(sys, work, res->tank);
-        for (i = 0; i < sys->n_links; i++)
-            edmi__copy3(work->lw[i].f, sys->link_force[i]);
+        edmi__store_forces(sys, work, 0);
         res->substeps = 1;
         if (work->kept || work->fresh) {
             work->kept_sys = sys;
@@ -4932,13 +5142,17 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
         return st;
     /* every block within REAL_MAX / (number of blocks), so no sum of them overflows: kmat is
      * written only when all of it is finite */
-    lim = EDMI_REAL_MAX / (EDMI_R(2.0) * (edmi_real)(sys->n_links + EDMI__N_DAMPERS(sys) + 1));
-    for (j = 0; j < sys->n_links + EDMI__N_DAMPERS(sys); j++) {
+    lim = EDMI_REAL_MAX / (EDMI_R(2.0) * (edmi_real)(sys->n_links + EDMI__N_DAMPERS(sys) +
+                                                      EDMI__N_WALLS(sys) + 1));
+    for (j = 0; j < sys->n_links + EDMI__N_DAMPERS(sys) + EDMI__N_WALLS(sys); j++) {
         const edmi_real *k = kl;
         if (j < sys->n_links)
             edmi__link_tangent(&work->lw[j], dt, kl);
-        else
+        else if (j < sys->n_links + EDMI__N_DAMPERS(sys))
             k = work->kd[j - sys->n_links];
+        else
+            edmi__wall_tangent(&sys->wall[j - sys->n_links - EDMI__N_DAMPERS(sys)],
+                               &work->ww[j - sys->n_links - EDMI__N_DAMPERS(sys)], dt, kl);
         for (i = 0; i < 9; i++)
             if (!(edmi__abs(k[i]) <= lim))
                 return EDMI_ERR_RANGE;
@@ -4958,6 +5172,10 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
         edmi__scatter(kmat, work->row, &sys->link[sys->damper[j].link], work->kd[j], EDMI__ONE,
                       EDMI__ONE);
 #endif
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) {
+        edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, kl);
+        edmi__scatter_anchor(kmat, work->row, sys->wall[j].a, kl, EDMI__ONE);
+    }
     return EDMI_OK;
 }
 
@@ -5047,11 +5265,35 @@ static edmi_status edmi__bodies_links_valid(int n_bodies, const edmi_body *body,
 }
 
 /* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
+/* A wall body a may take: a body, n finite and not 0 (unit once stored), c finite, and a
+ * potential of the gap (edmi_wall): harmonic, contact or tether, a > 0 and b >= 0 finite. */
+static edmi_status edmi__wall_valid(int n_bodies, int a, const edmi_real n[3], edmi_real c,
+                                    const edmi_potential *pot)
+{
+    if (a < 0 || a >= n_bodies)
+        return EDMI_ERR_INDEX;
+    if (!edmi__finite3(n) || !edmi__finite(c))
+        return EDMI_ERR_NONFINITE;
+    if ((n[0] == EDMI__ZERO && n[1] == EDMI__ZERO && n[2] == EDMI__ZERO) ||
+        (pot->kind != EDMI_POT_HARMONIC && pot->kind != EDMI_POT_CONTACT &&
+         pot->kind != EDMI_POT_TETHER) ||
+        !edmi__finite(pot->a) || !edmi__finite(pot->b) || !(pot->a > EDMI__ZERO) ||
+        !(pot->b >= EDMI__ZERO))
+        return EDMI_ERR_PARAM;
+    return EDMI__HAS_POT(pot->kind) ? EDMI_OK : EDMI_ERR_DISABLED;
+}
+
 static edmi_status edmi__validate_effects(const edmi_system *sys)
 {
     int i;
     for (i = 0; i < EDMI__N_DAMPERS(sys); i++) {
         edmi_status st = edmi__damper_valid(sys->n_links, sys->damper[i].link, sys->damper[i].c);
+        if (st != EDMI_OK)
+            return st;
+    }
+    for (i = 0; i < EDMI__N_WALLS(sys); i++) {
+        const edmi_wall *wl = &sys->wall[i];
+        edmi_status st = edmi__wall_valid(sys->n_bodies, wl->a, wl->n, wl->c, &wl->pot);
         if (st != EDMI_OK)
             return st;
     }
@@ -5084,7 +5326,8 @@ static int edmi__counts_valid(const edmi_system *sys)
 {
     return sys->n_bodies >= 0 && sys->n_bodies <= EDMI_MAX_BODIES && sys->n_links >= 0 &&
            sys->n_links <= EDMI_MAX_LINKS && sys->n_dampers >= 0 &&
-           sys->n_dampers <= EDMI_MAX_DAMPERS && sys->n_forced >= 0 &&
+           sys->n_dampers <= EDMI_MAX_DAMPERS && sys->n_walls >= 0 &&
+           sys->n_walls <= EDMI_MAX_WALLS && sys->n_forced >= 0 &&
            sys->n_forced <= sys->n_bodies && sys->n_moving >= 0 &&
            sys->n_moving <= sys->n_links;
 }
@@ -5232,18 +5475,37 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
 
 /* Write a link field by field into zeroed storage: never copy a caller's padding bytes, so
  * that equal systems compare equal with memcmp (edmi_init zeroes every byte). */
+/* *src into *dst, member by member (a struct copy may become a call to memcpy). */
+static void edmi__copy_pot(const edmi_potential *src, edmi_potential *dst)
+{
+    dst->kind = src->kind;
+    dst->a = src->a;
+    dst->b = src->b;
+    dst->fn = src->fn;
+    dst->dd = src->dd;
+    dst->ctx = src->ctx;
+}
+
 static void edmi__write_link(edmi_link *dst, int a, int b, const edmi_real x[3],
                              const edmi_potential *pot)
 {
     dst->a = a;
     dst->b = b;
     edmi__copy3(x, dst->anchor);
-    dst->pot.kind = pot->kind;
-    dst->pot.a = pot->a;
-    dst->pot.b = pot->b;
-    dst->pot.fn = pot->fn;
-    dst->pot.dd = pot->dd;
-    dst->pot.ctx = pot->ctx;
+    edmi__copy_pot(pot, &dst->pot);
+}
+
+/* A validated wall into dst, its normal stored as n / |n|. */
+static void edmi__write_wall(edmi_wall *dst, int a, const edmi_real n[3], edmi_real c,
+                             const edmi_potential *pot)
+{
+    edmi_real l = edmi__norm(n);
+    int i;
+    dst->a = a;
+    for (i = 0; i < 3; i++)
+        dst->n[i] = n[i] / l;
+    dst->c = c;
+    edmi__copy_pot(pot, &dst->pot);
 }
 
 static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_real x[3],
@@ -5320,6 +5582,27 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
     if (index)
         *index = sys->n_dampers;
     sys->n_dampers++;
+    return EDMI_OK;
+}
+
+
+edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_real c,
+                          const edmi_potential *pot, int *index)
+{
+    edmi_status st;
+    if (!sys || !n || !pot)
+        return EDMI_ERR_NULL;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
+    st = edmi__wall_valid(sys->n_bodies, a, n, c, pot);
+    if (st != EDMI_OK)
+        return st;
+    if (EDMI__N_WALLS(sys) >= EDMI_MAX_WALLS)
+        return EDMI_ERR_CAPACITY;
+    edmi__write_wall(&sys->wall[sys->n_walls], a, n, c, pot);
+    if (index)
+        *index = sys->n_walls;
+    sys->n_walls++;
     return EDMI_OK;
 }
 
@@ -5577,6 +5860,14 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
         if (!(d > EDMI__ZERO) && !(d == EDMI__ZERO && edmi__is_linear(&lk->pot)))
             return EDMI_ERR_COINCIDENT;
         st = edmi__pot_parts(&lk->pot, d, &pp, 1);
+        if (st != EDMI_OK)
+            return st;
+        iv.v += pp.v[0];
+    }
+    for (a = 0; a < EDMI__N_WALLS(sys); a++) {
+        const edmi_wall *wl = &sys->wall[a];
+        edmi_pot_parts pp;
+        st = edmi__pot_parts(&wl->pot, edmi__wall_gap(wl, sys->body[wl->a].q), &pp, 0);
         if (st != EDMI_OK)
             return st;
         iv.v += pp.v[0];

@@ -7,7 +7,7 @@
  * energy-decaying momentum-conserving integrator for nonlinear dynamics using energy
  * splitting and perturbation techniques": implicit mid-point (MP), LaBudde-Greenspan (LG),
  * generalized Eyre (GE), perturbed mid-point (PM) and perturbed trapezoidal (PT), for bodies
- * coupled by pair potentials V(d) and bodies tied to fixed anchors.
+ * coupled by pair potentials V(d), bodies tied to anchors and bodies against walls (planes).
  *
  * Read it in this order (README.md has three complete programs, docs/api.md the API by
  * group):
@@ -79,6 +79,14 @@
  *  keep one unused slot. */
 #ifndef EDMI_MAX_DAMPERS
 #define EDMI_MAX_DAMPERS 16
+#endif
+
+/** Walls per system: a body against a plane, V(g) of its gap g = n.q - c (edmi_add_wall()).
+ *  Costs an edmi_wall and 3 reals (its force) in edmi_system and an edmi_link_ws in
+ *  edmi_workspace per wall. 0 compiles walls out: the step holds no wall code
+ *  (edmi_add_wall() then returns EDMI_ERR_CAPACITY) and the structs keep one unused slot. */
+#ifndef EDMI_MAX_WALLS
+#define EDMI_MAX_WALLS 6
 #endif
 
 /** Coupled masses (the paper's general mass matrix M, section 2): the largest body-index gap
@@ -167,6 +175,9 @@
 #if EDMI_MAX_DAMPERS < 0 || EDMI_MAX_DAMPERS > 1000000
 #error "edmi: EDMI_MAX_DAMPERS must be 0 (dampers compiled out) to 1000000"
 #endif
+#if EDMI_MAX_WALLS < 0 || EDMI_MAX_WALLS > 1000000
+#error "edmi: EDMI_MAX_WALLS must be 0 (walls compiled out) to 1000000"
+#endif
 #if EDMI_MAX_MASS_GAP < 0 || EDMI_MAX_MASS_GAP >= EDMI_MAX_BODIES
 #error "edmi: EDMI_MAX_MASS_GAP must be 0 (diagonal masses) to EDMI_MAX_BODIES - 1"
 #endif
@@ -191,6 +202,11 @@
 #define EDMI_DAMPER_SLOTS_ EDMI_MAX_DAMPERS
 #else
 #define EDMI_DAMPER_SLOTS_ 1
+#endif
+#if EDMI_MAX_WALLS > 0
+#define EDMI_WALL_SLOTS_ EDMI_MAX_WALLS
+#else
+#define EDMI_WALL_SLOTS_ 1
 #endif
 
 /** The port hook: square root of a non-negative edmi_real. The default is the compiler
@@ -460,6 +476,19 @@ typedef struct edmi_damper {
     edmi_real c; /*!< damping coefficient >= 0 [M / T]: force = c * relative speed along the link */
 } edmi_damper;
 
+/** A wall: body a against the plane n.x = c, with the potential V(g) of its gap g = n.q_a - c
+ *  (> 0 on the side n points to). Its force -V'(g) n (each scheme's discrete form) is along
+ *  n: the momentum along the plane and the angular momentum about any axis along n are kept.
+ *  The potentials a wall takes: edmi_pot_contact(k, R), V = k/3 (R - g)^3 below g = R (a ball
+ *  of radius R >= 0 against a rigid floor), edmi_pot_tether(k, L), V = k/3 (g - L)^3 beyond
+ *  g = L (a body kept within L of the plane), and edmi_pot_harmonic(k, g0), k/2 (g - g0)^2. */
+typedef struct edmi_wall {
+    int a;               /*!< the body */
+    edmi_real n[3];      /*!< unit normal, as edmi_add_wall() stored it (normalised) */
+    edmi_real c;         /*!< the plane's offset along n [L] */
+    edmi_potential pot;  /*!< V of the gap; its b (R, L or g0) may be 0 */
+} edmi_wall;
+
 /** An off-diagonal entry m_ab = m_ba of the mass matrix (edmi_set_mass_coupling()). */
 typedef struct edmi_mass_coupling {
     int a, b;    /*!< two different bodies, |a - b| <= EDMI_MAX_MASS_GAP */
@@ -481,6 +510,8 @@ typedef struct edmi_system {
     edmi_real g[3];                      /*!< field acceleration: force m g on every body [L/T^2] */
     int n_dampers;
     edmi_damper damper[EDMI_DAMPER_SLOTS_];
+    int n_walls;
+    edmi_wall wall[EDMI_WALL_SLOTS_];
     int n_forced;                        /*!< bodies with an external force port set */
     int forced[EDMI_MAX_BODIES];         /*!< their indices */
     edmi_real force[EDMI_MAX_BODIES][3]; /*!< port force per body (row forced[i] in use) [M L/T^2] */
@@ -505,6 +536,9 @@ typedef struct edmi_system {
      *  algorithmic force plus its dampers [M L/T^2]. The work the anchors did on the system
      *  is -sum link_force . (x_n+1 - x_n), reported as edmi_step_result.work_anchor. */
     edmi_real link_force[EDMI_MAX_LINKS][3];
+    /** Output of the last successful step: the mean force wall w took from its body over the
+     *  step, V'(g) n in the scheme's discrete form [M L/T^2] (the body felt its opposite). */
+    edmi_real wall_force[EDMI_WALL_SLOTS_][3];
     /* Where the factors of the last step's Newton matrix are kept: the workspace, that step's
      * dt and sizes (edmi_step). The next step with the same workspace and dt starts Newton
      * from them. */
@@ -528,7 +562,7 @@ typedef struct edmi_scene {
     const edmi_params *params;   /*!< parameters, or NULL for edmi_default_params() */
     int n_mass_couplings;        /*!< off-diagonal masses (0 for one mass per body) */
     const edmi_mass_coupling *mass_couplings; /*!< each pair at most once (may be NULL when 0) */
-} edmi_scene;
+} edmi_scene; /* walls are added after loading, with edmi_add_wall() */
 
 /** Newton scratch space. Caller-owned; one workspace may serve several systems stepped one
  *  after another. Between calls it means nothing but the factors of a system's last Newton
@@ -719,6 +753,15 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3]);
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link), EDMI_ERR_PARAM (c < 0 or
  *          not finite), EDMI_ERR_CAPACITY */
 edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index);
+
+/** \brief Put body a against the plane n.x = c (n need not be unit: it is stored normalised)
+ *  with the potential pot of the gap g = n.q_a - c (edmi_wall). *index (if not NULL) receives
+ *  the wall's number, for sys->wall_force.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such body), EDMI_ERR_NONFINITE (n or c),
+ *          EDMI_ERR_PARAM (n of length 0, or a potential a wall does not take: edmi_wall),
+ *          EDMI_ERR_DISABLED (its kind compiled out), EDMI_ERR_CAPACITY */
+edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_real c,
+                          const edmi_potential *pot, int *index);
 
 /** \brief Couple the masses of bodies a and b: set the off-diagonal entry m_ab = m_ba of the
  *  mass matrix M (kinetic energy K = 1/2 p . M^-1 p; the diagonal entries are the bodies'
@@ -924,6 +967,7 @@ struct edmi_workspace {
     edmi_real p0[EDMI_MAX_BODIES][3];
     edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
     edmi_link_ws lw[EDMI_MAX_LINKS];
+    edmi_link_ws ww[EDMI_WALL_SLOTS_]; /* walls: d0 = g_n, beta = Lambda, gamma = d Lambda / d g */
     edmi_real kd[EDMI_DAMPER_SLOTS_][9]; /* damper tangent blocks */
     edmi_real kend[EDMI_MAX_BODIES][5];  /* p and |p|^2 (double-word) at the last balance's end */
     int row[3 * EDMI_MAX_BODIES];      /* the Newton matrix's row offsets */

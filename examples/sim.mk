@@ -47,8 +47,9 @@ SIM_BENCH_CAP := -DEDMI_MAX_BODIES=128 -DEDMI_MAX_LINKS=8192
 # runs the ten-body scene about 30% faster. `make SIM_OPT=` uses CFLAGS alone.
 SIM_OPT ?= -O3
 # edmi-sim, its scene parser and its tests take coupled masses (`mass A B m`) up to two bodies
-# apart: every object of theirs is built with the same capacity.
-SIM_CAP := -DEDMI_MAX_MASS_GAP=2
+# apart, 128 walls and 128 links (16 balls in a box: 96 walls, 120 pairs): every object of theirs is built with the same
+# capacity.
+SIM_CAP := -DEDMI_MAX_MASS_GAP=2 -DEDMI_MAX_WALLS=128 -DEDMI_MAX_LINKS=128
 
 .PHONY: sim test-scene run-examples plots bench bench-profile guard-cost orbits haptic study
 

@@ -22,22 +22,27 @@
  *   edmi_link      = up(2*4 + 3R, RP) + edmi_potential           a, b, anchor[3], pot
  *   edmi_body      = 7R                                          m, q[3], p[3]
  *   edmi_damper    = up(4, R) + R                                link, c
+ *   edmi_wall      = up(up(4, R) + 4R, RP) + edmi_potential       a, n[3], c, pot
  *   edmi_system, field by field:
  *     s = up(2*4, R) + 2R + edmi_params + N*7R                   n_bodies, n_links, t, t_carry, ...
  *     s = up(s, RP) + L*edmi_link + 4                            link[L], has_field
  *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
- *     s = up(s, R) + D*edmi_damper + 4 + 4N                      damper[D], n_forced, forced[N]
+ *     s = up(up(s, R) + D*edmi_damper + 4, RP)                   damper[D], n_walls
+ *         + W*edmi_wall + 4 + 4N                                 wall[W], n_forced, forced[N]
+ *                                                                (W = max(EDMI_MAX_WALLS, 1))
  *     s = up(s, R) + 3R*N + 4 + 4L                               force[N][3], n_moving, moving[L]
- *     s = up(s, R) + 6R*L + N*G*R + R                            anchor_next[L][3], mass_off[N][G]
+ *     s = up(s, R) + 6R*L + N*G*R + R + 3R*W                     anchor_next[L][3], mass_off[N][G]
  *                                                                (G = EDMI_MAX_MASS_GAP, 0 by
- *                                                                default), tank, link_force[L][3]
+ *                                                                default), tank, link_force[L][3],
+ *                                                                wall_force[W][3]
  *     sizeof(edmi_system) = up(s, RP)
  *   edmi_link_ws   = up(56R + 12, R)    r0[3], 12 scalars, x1[3], f[3], gamma, rm[3], u[3],
  *                                       the balance's 6 reals and the 13 of its cached end,
  *                                       the substeps' fsum[3], xs[3], xt[3], bal_on, have1,
  *                                       end_kind
- *   edmi_workspace = up((M + 32N + 9D) R + L*edmi_link_ws + 4(6N + L + 3), R)
- *                    reals, lw[L], then the ints row[3N], order[L], n_pair, piv[3N], kb, upper
+ *   edmi_workspace = up((M + 32N + 9D) R + (L + W)*edmi_link_ws + 4(6N + L + 3), R)
+ *                    reals, lw[L], ww[W], then the ints row[3N], order[L], n_pair, piv[3N],
+ *                    kb, upper
  * The 32N reals are q1, p1, rq, rp, dp, rhs, q0, p0 (3 each), sq, sp, h (1 each) and kend (5); M =
  * EDMI_MAX_MATRIX (default 9N^2) is the Newton matrix; 9 reals per damper its tangent block. */
 #include "../edmi.h"
@@ -50,6 +55,7 @@
 #define TGT_N ((unsigned long)EDMI_MAX_BODIES)
 #define TGT_L ((unsigned long)EDMI_MAX_LINKS)
 #define TGT_D ((unsigned long)EDMI_DAMPER_SLOTS_) /* EDMI_MAX_DAMPERS = 0 keeps one slot */
+#define TGT_W ((unsigned long)EDMI_WALL_SLOTS_)   /* EDMI_MAX_WALLS = 0 keeps one slot */
 #define TGT_RP TGT_MAX(TGT_R, TGT_P)
 
 #define TGT_PARAMS \
@@ -57,51 +63,57 @@
 #define TGT_POT TGT_UP(TGT_UP(TGT_UP(TGT_E, TGT_R) + 2u * TGT_R, TGT_P) + 3u * TGT_P, TGT_RP)
 #define TGT_LINK (TGT_UP(8u + 3u * TGT_R, TGT_RP) + TGT_POT)
 #define TGT_DAMPER (TGT_UP(4u, TGT_R) + TGT_R)
+#define TGT_WALL (TGT_UP(TGT_UP(4u, TGT_R) + 4u * TGT_R, TGT_RP) + TGT_POT)
 #define TGT_S1 (TGT_UP(8u, TGT_R) + 2u * TGT_R + TGT_PARAMS + TGT_N * 7u * TGT_R)
 #define TGT_S2 (TGT_UP(TGT_S1, TGT_RP) + TGT_L * TGT_LINK + 4u)
 #define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
-#define TGT_S4 (TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
+#define TGT_S4                                                                              \
+    (TGT_UP(TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u, TGT_RP) + TGT_W * TGT_WALL + 4u +  \
+     4u * TGT_N)
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
 #define TGT_G ((unsigned long)EDMI_MAX_MASS_GAP)
-#define TGT_S6 (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G + TGT_R)
+#define TGT_S6                                                                              \
+    (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G + TGT_R +             \
+     3u * TGT_R * TGT_W)
 /* the record of kept factors: a pointer, dt, two ints */
 #define TGT_S7 (TGT_UP(TGT_UP(TGT_S6, TGT_P) + TGT_P, TGT_R) + TGT_R + 8u)
 #define TGT_SYSTEM TGT_UP(TGT_S7, TGT_RP)
 #define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
 #define TGT_LINK_WS TGT_UP(56u * TGT_R + 12u, TGT_R)
 #define TGT_WS0                                                                               \
-    ((TGT_M + 32u * TGT_N + 9u * TGT_D) * TGT_R + TGT_L * TGT_LINK_WS +                         \
+    ((TGT_M + 32u * TGT_N + 9u * TGT_D) * TGT_R + (TGT_L + TGT_W) * TGT_LINK_WS +               \
      4u * (6u * TGT_N + TGT_L + 3u))
 /* then whose kept factors they are (a pointer) and two ints */
 #define TGT_WORKSPACE TGT_UP(TGT_UP(TGT_WS0, TGT_P) + TGT_P + 8u, TGT_RP)
 
 /* The closed forms of docs/sizing.md: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
- * K + R M + b N + l L + d D + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
- *   float:  K = 128 with 4-byte pointers and 1-byte enums (arm-none-eabi), 136 with 4-byte
- *           enums, 148 with 8-byte pointers; b = 196, d = 44; l = 312 with 4-byte pointers,
- *           332 with 8-byte ones; pad = 0 with 4-byte pointers, else 4 when N is odd
- *           (alignment of link[] after body[N]) + 4 when L + N G is odd (the system's
- *           tail, rounded up to the pointers' 8) + 4 when N + D is even (the workspace's
- *           pointer to whose factors it keeps)
- *   double: K = 196 with 1-byte enums, 204 with 4-byte ones; b = 364, d = 88;
- *           l = 592 with 4-byte pointers, 600 with 8-byte ones; pad = 4 when N is even (the
- *           int array forced[N] before force[N][3]) + with 8-byte pointers 8 when L is even
- *           (the int arrays moving[L] before anchor_next[L][3]) */
+ * K + R M + b N + l L + d D + w W + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
+ *   float:  K = 132 with 4-byte pointers and 1-byte enums (arm-none-eabi), 140 with 4-byte
+ *           enums, 152 with 8-byte pointers; b = 196, d = 44; l = 312 and w = 292 with 4-byte
+ *           pointers, 332 and 312 with 8-byte ones; pad = 0 with 4-byte pointers, else 4 when
+ *           N is odd (alignment of link[] after body[N]) + 4 when L + N G + W is even (the
+ *           system's tail, rounded up to the pointers' 8) + 4 when N + D + W is even (the
+ *           walls after the dampers, and the workspace's pointer to whose factors it keeps)
+ *   double: K = 204 with 1-byte enums, 212 with 4-byte ones; b = 364, d = 88;
+ *           l = 592 and w = 568 with 4-byte pointers, 600 and 576 with 8-byte ones; pad = 4
+ *           when N is even (the int array forced[N] before force[N][3]) + with 8-byte
+ *           pointers 8 when L is even (the int arrays moving[L] before anchor_next[L][3]) */
 #define TGT_CLOSED_K                                                                        \
-    ((TGT_R == 4u ? (TGT_P == 4u ? 128u : 140u) : 196u) + (TGT_E == 4u ? 8u : 0u))
+    ((TGT_R == 4u ? (TGT_P == 4u ? 132u : 144u) : 204u) + (TGT_E == 4u ? 8u : 0u))
 #define TGT_CLOSED_B (TGT_R == 4u ? 196u : 364u)
 #define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 312u : 592u) : (TGT_R == 4u ? 332u : 600u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
+#define TGT_CLOSED_W (TGT_R == 4u ? (TGT_P == 4u ? 292u : 312u) : (TGT_P == 4u ? 568u : 576u))
 #define TGT_CLOSED_PAD                                                                      \
     (TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) +                                             \
                        (TGT_P == 8u && TGT_L % 2u == 0u ? 8u : 0u)                             \
      : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) +                                         \
-                         ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) +                     \
-                         ((TGT_N + TGT_D) % 2u == 0u ? 4u : 0u)                               \
+                         ((TGT_L + TGT_N * TGT_G + TGT_W) % 2u == 0u ? 4u : 0u) +             \
+                         ((TGT_N + TGT_D + TGT_W) % 2u == 0u ? 4u : 0u)                       \
                    : 0u)
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + TGT_R * TGT_M + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L +             \
-     TGT_CLOSED_D * TGT_D + TGT_R * TGT_N * TGT_G + TGT_CLOSED_PAD)
+     TGT_CLOSED_D * TGT_D + TGT_CLOSED_W * TGT_W + TGT_R * TGT_N * TGT_G + TGT_CLOSED_PAD)
 #define TGT_TOTAL ((unsigned long)(sizeof(edmi_system) + sizeof(edmi_workspace)))
 
 #ifndef TGT_RAMCHECK_SIZES_ONLY
@@ -145,6 +157,7 @@ int main(void)
     check("sizeof(edmi_link)", (unsigned long)sizeof(edmi_link), TGT_LINK);
     check("sizeof(edmi_body)", (unsigned long)sizeof(edmi_body), 7u * TGT_R);
     check("sizeof(edmi_damper)", (unsigned long)sizeof(edmi_damper), TGT_DAMPER);
+    check("sizeof(edmi_wall)", (unsigned long)sizeof(edmi_wall), TGT_WALL);
     check("sizeof(edmi_link_ws)", (unsigned long)sizeof(edmi_link_ws), TGT_LINK_WS);
     check("sizeof(edmi_system)", (unsigned long)sizeof(edmi_system), TGT_SYSTEM);
     check("sizeof(edmi_workspace)", (unsigned long)sizeof(edmi_workspace), TGT_WORKSPACE);

@@ -190,6 +190,40 @@ static void tp_link_vec(const edmi_system *s, int j, tp_q r[3])
         r[i] = (tp_q)s->body[lk->a].q[i] - (tp_q)xb[i];
 }
 
+/* V of wall j in state s, from its gap g = n.q - c in tp_q (each product of two stored reals
+ * exact, their sum within a few tp_q units of G = sum |n_i q_i| + |c|), and its magnitude *mag
+ * as tp_pot's: harmonic a/2 x^2, one-sided a/3 x^3 for x > 0 (x = g - b, or b - g for
+ * contact). 0 for another kind. */
+static int tp_wall_v(const edmi_system *s, int j, tp_q *v, tp_q *mag)
+{
+    const edmi_wall *wl = &s->wall[j];
+    tp_q g = -(tp_q)wl->c, big = tp_absq((tp_q)wl->c), a = (tp_q)wl->pot.a, b = (tp_q)wl->pot.b;
+    tp_q x, xe;
+    int i;
+    for (i = 0; i < 3; i++) {
+        tp_q t = (tp_q)wl->n[i] * (tp_q)s->body[wl->a].q[i];
+        g += t;
+        big += tp_absq(t);
+    }
+    x = wl->pot.kind == EDMI_POT_CONTACT ? b - g : g - b;
+    xe = tp_absq(x) + (tp_q)8.0 * TP_Q_EPS * (big + b);
+    switch (wl->pot.kind) {
+    case EDMI_POT_HARMONIC:
+        *v = (tp_q)0.5 * a * x * x;
+        *mag = (tp_q)4.0 * a * xe * (big + b + xe) + (tp_q)4.0 * *v;
+        return 1;
+    case EDMI_POT_CONTACT:
+    case EDMI_POT_TETHER:
+        *v = x > (tp_q)0.0 ? a * x * x * x / (tp_q)3.0 : (tp_q)0.0;
+        *mag = x > (tp_q)-16.0 * TP_Q_EPS * (big + b)
+                   ? (tp_q)4.0 * a * xe * xe * (big + b + xe) + (tp_q)4.0 * *v
+                   : (tp_q)0.0;
+        return 1;
+    default:
+        return 0;
+    }
+}
+
 /* The squared length of link j in state s, and the length *d, in tp_q. */
 static tp_q tp_link_sq(const edmi_system *s, int j, tp_q *d)
 {
@@ -386,6 +420,13 @@ static int tp_delta_q(const edmi_system *s0, const edmi_system *s1, const edmi_s
         tp_q v0, v1, m0, m1;
         if (!tp_pot(&s0->link[j].pot, sq0, d0, &v0, &m0) ||
             !tp_pot(&s1->link[j].pot, sq1, d1, &v1, &m1))
+            return 0;
+        dh += v1 - v0;
+        mag += m0 + m1;
+    }
+    for (j = 0; j < s0->n_walls; j++) {
+        tp_q v0, v1, m0, m1;
+        if (!tp_wall_v(s0, j, &v0, &m0) || !tp_wall_v(s1, j, &v1, &m1))
             return 0;
         dh += v1 - v0;
         mag += m0 + m1;
@@ -716,6 +757,39 @@ static int tp_pot_dw(const edmi_potential *p, tp_dw s, tp_dw *v, double *mag)
     }
 }
 
+/* V of wall j in double-word (as tp_wall_v), and its magnitude as tp_pot_dw's: the gap's
+ * products exact, their sum within a few u^2 of G, taken as 2^-40 of it (as the lengths). */
+static int tp_wall_v_dw(const edmi_system *s, int j, tp_dw *v, double *mag)
+{
+    const edmi_wall *wl = &s->wall[j];
+    double a = (double)wl->pot.a, b = (double)wl->pot.b, big = tp_absd((double)wl->c) + b, xe;
+    tp_dw g = tp_dw_of(-(double)wl->c), x;
+    int i;
+    for (i = 0; i < 3; i++) {
+        tp_dw t = tp_two_prod((double)wl->n[i], (double)s->body[wl->a].q[i]);
+        g = tp_dw_add(g, t);
+        big += tp_absd(t.hi);
+    }
+    x = tp_dw_add_d(g, -b);
+    if (wl->pot.kind == EDMI_POT_CONTACT)
+        x = tp_dw_neg(x);
+    xe = tp_absd(x.hi) + 0x1p-40 * big;
+    switch (wl->pot.kind) {
+    case EDMI_POT_HARMONIC:
+        *v = tp_dw_mul_d(tp_dw_mul(x, x), 0.5 * a);
+        *mag = a * big * xe;
+        return 1;
+    case EDMI_POT_CONTACT:
+    case EDMI_POT_TETHER:
+        *v = x.hi > 0.0 ? tp_dw_div(tp_dw_mul_d(tp_dw_mul(tp_dw_mul(x, x), x), a), tp_dw_of(3.0))
+                        : tp_dw_of(0.0);
+        *mag = x.hi > -0x1p-39 * big ? a * big * xe * xe : 0.0;
+        return 1;
+    default:
+        return 0;
+    }
+}
+
 /* H(s), its magnitude and count of terms (tp_h_dw's work, flags aside); 0 if a term is not
  * evaluated here (a coupled M, or what tp_pot_dw refuses). */
 static int tp_h_dw_eval(const edmi_system *s, tp_hdw *h)
@@ -750,6 +824,13 @@ static int tp_h_dw_eval(const edmi_system *s, tp_hdw *h)
     for (j = 0; j < s->n_links; j++) {
         double mj;
         if (!tp_pot_dw(&s->link[j].pot, tp_link_sq_dw(s, j), &t, &mj))
+            return 0;
+        sum = n++ ? tp_dw_add(sum, t) : t;
+        mag += mj;
+    }
+    for (j = 0; j < s->n_walls; j++) {
+        double mj;
+        if (!tp_wall_v_dw(s, j, &t, &mj))
             return 0;
         sum = n++ ? tp_dw_add(sum, t) : t;
         mag += mj;
@@ -793,7 +874,7 @@ int tp_delta_dw(const edmi_system *s0, const tp_hdw *h0, const edmi_system *s1,
     double t0 = (double)s0->tank, t1 = (double)s1->tank, mag, thr;
     int a, i;
     if (!h0->ok || !h1->ok || s0->n_bodies != s1->n_bodies || s0->n_links != s1->n_links ||
-        s0->has_field != s1->has_field)
+        s0->n_walls != s1->n_walls || s0->has_field != s1->has_field)
         return 0;
     for (a = 0; a < s0->n_bodies; a++) /* tp_delta_h takes s0's masses and field for both */
         if (s0->body[a].m != s1->body[a].m)
@@ -915,6 +996,11 @@ static int tp_hq(const edmi_system *s, tp_q *out)
     for (j = 0; j < s->n_links; j++) {
         tp_q d, sq = tp_link_sq(s, j, &d), v, m;
         if (tp_pot(&s->link[j].pot, sq, d, &v, &m))
+            h += v;
+    }
+    for (j = 0; j < s->n_walls; j++) {
+        tp_q v, m;
+        if (tp_wall_v(s, j, &v, &m))
             h += v;
     }
     *out = h;
@@ -1778,6 +1864,7 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         tp_one.link[0] = *lk;
         tp_one.n_links = 1;
         tp_one.n_dampers = 0;
+        tp_one.n_walls = 0;
         tp_one.n_moving = 0;
         for (i = 0; i < s0->n_moving; i++)
             if (s0->moving[i] == j) {
@@ -1803,6 +1890,27 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         tp_pm[lk->a] += x;
         if (lk->b != EDMI_ANCHOR)
             tp_pm[lk->b] += x;
+    }
+    for (j = 0; j < s0->n_walls && j < EDMI_WALL_SLOTS_; j++) { /* as a link to the plane */
+        const edmi_wall *wl = &s0->wall[j];
+        long double k = 0.0L;
+        a = wl->a;
+        tp_pm[a] += 4.0L * ldt * tp_n3l(s->wall_force[j]);
+        tp_one = *s0;
+        tp_one.wall[0] = *wl;
+        tp_one.n_walls = 1;
+        tp_one.n_links = 0;
+        tp_one.n_dampers = 0;
+        tp_one.n_moving = 0;
+        if (edmi_tangent(&tp_one, work, dt, (const edmi_real (*)[3])tp_q1,
+                         (const edmi_real (*)[3])tp_p1, tp_kmat) != EDMI_OK)
+            continue;
+        for (i = 0; i < 9 * n * n; i++)
+            if (tp_absl((long double)tp_kmat[i]) > k)
+                k = tp_absl((long double)tp_kmat[i]);
+        if (wl->pot.kind == EDMI_POT_HARMONIC && ldt * (long double)wl->pot.a > k)
+            k = ldt * (long double)wl->pot.a;
+        tp_pm[a] += 12.0L * k * (tp_n3l(tp_q1[a]) + tp_absl((long double)wl->c) + tp_qm[a]);
     }
     for (j = 0; j < s0->n_dampers && j < EDMI_DAMPER_SLOTS_; j++) {
         const edmi_link *lk = &s0->link[s0->damper[j].link];

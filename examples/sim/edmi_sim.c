@@ -580,11 +580,13 @@ static void conserved(const sim_scene *s, int *j_ok, int *lc_ok, char *why, size
                 s->link[i].anchor[2] != 0)
                 off_origin = 1;
         }
-    *lc_ok = !anchors && !field && s->n_forces == 0;
-    *j_ok = !off_origin && !field && s->n_forces == 0;
-    snprintf(why, n, "%s%s%s%s%s", anchors ? "anchors" : "",
+    *lc_ok = !anchors && !field && s->n_forces == 0 && s->n_walls == 0;
+    *j_ok = !off_origin && !field && s->n_forces == 0 && s->n_walls == 0;
+    snprintf(why, n, "%s%s%s%s%s%s%s", anchors ? "anchors" : "",
              anchors && (field || s->n_forces) ? ", " : "", field ? "field" : "",
-             field && s->n_forces ? ", " : "", s->n_forces ? "force ports" : "");
+             field && s->n_forces ? ", " : "", s->n_forces ? "force ports" : "",
+             s->n_walls && (anchors || field || s->n_forces) ? ", " : "",
+             s->n_walls ? "walls" : "");
 }
 
 /* ---- --ref: trajectory error against a reference ------------------------------------------ */
@@ -866,7 +868,7 @@ static int load_for_reference(void)
     prm.tol_r = 0;
     prm.tol_a = 0;
     view.params = &prm;
-    if (edmi_load_scene(&sys, &view) != EDMI_OK)
+    if (edmi_load_scene(&sys, &view) != EDMI_OK || sim_scene_add_walls(&scn, &sys) != EDMI_OK)
         return -1;
     for (i = 0; i < scn.n_forces; i++)
         if (edmi_set_force(&sys, scn.force_body[i], scn.force[i]) != EDMI_OK)
@@ -1054,8 +1056,11 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
     int guard_on = guard_runs(p);
     scheme_label(p, lbl, sizeof lbl);
     printf("scene     %s%s%s\n", o->scene, scn.title[0] ? ": " : "", scn.title);
-    printf("          %d bodies, %d links, %d dampers, field %s, %d force ports\n", scn.n_bodies,
+    printf("          %d bodies, %d links, %d dampers, field %s, %d force ports", scn.n_bodies,
            scn.n_links, scn.n_dampers, scn.has_field ? "yes" : "no", scn.n_forces);
+    if (scn.n_walls > 0)
+        printf(", %d walls", scn.n_walls);
+    printf("\n");
     printf("scheme    %s", lbl);
     if (p->scheme == EDMI_LG)
         printf(" (%s)", p->lg_form == EDMI_LG_CLOSED ? "closed-form divided difference"
@@ -1241,6 +1246,12 @@ int main(int argc, char **argv)
         scn.params.tank_cap = (edmi_real)o.tank_cap;
     scn.params.energy_balance = o.energy_balance;
     if (o.emit_c) {
+        if (scn.n_walls > 0) {
+            fprintf(stderr, "edmi-sim: %s: --emit-c: walls are not scene data (an edmi_scene "
+                    "holds none); add them with edmi_add_wall() after edmi_load_scene()\n",
+                    o.scene);
+            return 1;
+        }
         emit_c(&scn, o.scene);
         return 0;
     }
@@ -1279,6 +1290,11 @@ int main(int argc, char **argv)
     s = edmi_load_scene(&sys, &view);
     if (s != EDMI_OK) {
         explain_state(o.scene, "edmi_load_scene", s);
+        return 2;
+    }
+    s = sim_scene_add_walls(&scn, &sys);
+    if (s != EDMI_OK) {
+        fprintf(stderr, "edmi-sim: %s: edmi_add_wall: %s\n", o.scene, edmi_status_name(s));
         return 2;
     }
     for (i = 0; i < scn.n_forces; i++) {

@@ -660,6 +660,55 @@ static int sim__key_damper(sim__ctx *c)
     return sim__add_damper(c, (int)v, cd);
 }
 
+/* wall BODY nx ny nz c POTENTIAL ...  or  wall all nx ny nz c POTENTIAL ...: BODY (or every body
+ * declared so far) against the plane n.x = c, the potential of its gap g = n.q - c: contact
+ * k R (a ball of radius R on a rigid plane), tether k L or harmonic k g0 (edmi_add_wall). */
+static int sim__key_wall(sim__ctx *c)
+{
+    static const char *const names[] = {"BODY", "nx", "ny", "nz", "c", "potential"};
+    sim_scene *s = c->s;
+    sim__pot_spec ps;
+    double v[4];
+    int a, i, first, last;
+    if (c->ntok < 7)
+        return sim__count(c, 1, 6, names, "wall BODY nx ny nz c POTENTIAL PARAMS  or  wall all ...");
+    for (i = 0; i < 4; i++)
+        if (sim__real(c, 2 + i, names[1 + i], &v[i]))
+            return -1;
+    if (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0)
+        return sim__fail(c, "wall: the normal (nx, ny, nz) is 0");
+    if (sim__pot_spec_parse(c, 6, 0, &ps))
+        return -1;
+    if (ps.kind != EDMI_POT_CONTACT && ps.kind != EDMI_POT_TETHER && ps.kind != EDMI_POT_HARMONIC)
+        return sim__fail(c, "wall: a wall takes contact, tether or harmonic, not '%s'", c->tok[6]);
+    if (strcmp(c->tok[1], "all") == 0) {
+        if (s->n_bodies == 0)
+            return sim__fail(c, "wall: 'all' but no bodies declared so far");
+        first = 0;
+        last = s->n_bodies - 1;
+    } else {
+        if (sim__body_ref(c, 1, &a))
+            return -1;
+        first = last = a;
+    }
+    if (last - first + 1 > EDMI_MAX_WALLS - s->n_walls)
+        return sim__fail(c, "wall: too many walls (EDMI_MAX_WALLS = %d)", EDMI_MAX_WALLS);
+    for (a = first; a <= last; a++) {
+        edmi_wall *w = &s->wall[s->n_walls++];
+        w->a = a;
+        for (i = 0; i < 3; i++)
+            w->n[i] = (edmi_real)v[i];
+        w->c = (edmi_real)v[3];
+        w->pot.kind = ps.kind;
+        w->pot.a = (edmi_real)ps.a;
+        w->pot.b = (edmi_real)ps.b;
+        w->pot.fn = 0;
+        w->pot.dd = 0;
+        w->pot.ctx = 0;
+    }
+    return 0;
+}
+
 /* mass A B m: the off-diagonal entry m_AB = m_BA of the mass matrix (edmi_set_mass_coupling;
  * the bodies' own masses are its diagonal). */
 static int sim__key_mass(sim__ctx *c)
@@ -841,7 +890,7 @@ static int sim__line(sim__ctx *c, char *buf)
                 {"pair", sim__key_pair},     {"pairs", sim__key_pairs},
                 {"chain", sim__key_chain},   {"field", sim__key_field},
                 {"damper", sim__key_damper}, {"force", sim__key_force},
-                {"mass", sim__key_mass},
+                {"mass", sim__key_mass},     {"wall", sim__key_wall},
                 {"set", sim__key_set},       {"title", sim__key_title}};
     char *p = strchr(buf, '#');
     size_t i;
@@ -982,4 +1031,16 @@ edmi_scene sim_scene_view(const sim_scene *s)
     v.n_mass_couplings = s->n_mass;
     v.mass_couplings = s->n_mass ? s->mass : 0;
     return v;
+}
+
+edmi_status sim_scene_add_walls(const sim_scene *s, edmi_system *sys)
+{
+    int i;
+    for (i = 0; i < s->n_walls; i++) {
+        const edmi_wall *w = &s->wall[i];
+        edmi_status st = edmi_add_wall(sys, w->a, w->n, w->c, &w->pot, 0);
+        if (st != EDMI_OK)
+            return st;
+    }
+    return EDMI_OK;
 }

@@ -30,6 +30,13 @@
 #define SIM_MAX_MASS 1
 #endif
 
+/* Walls a scene may declare (`wall`): edmi-sim's build capacity, at least one slot. */
+#if EDMI_MAX_WALLS > 0
+#define SIM_MAX_WALLS EDMI_MAX_WALLS
+#else
+#define SIM_MAX_WALLS 1
+#endif
+
 /** A parsed scene: bodies, links, dampers and field as edmi data, plus force ports and the
  *  settings the file declared. Large (it holds EDMI_MAX_* arrays): make it static. */
 typedef struct sim_scene {
@@ -42,6 +49,8 @@ typedef struct sim_scene {
     int link_line[EDMI_MAX_LINKS];           /*!< line that declared each link (messages) */
     int n_dampers;
     edmi_damper damper[EDMI_MAX_DAMPERS];
+    int n_walls;                             /*!< walls: not scene data (sim_scene_add_walls) */
+    edmi_wall wall[SIM_MAX_WALLS];
     int n_mass;                              /*!< off-diagonal masses (`mass A B m`) */
     edmi_mass_coupling mass[SIM_MAX_MASS];
     int has_field;
@@ -70,6 +79,10 @@ int sim_scene_load(const char *path, sim_scene *out, char *err, size_t err_size)
 
 /** \brief The edmi_scene view of a parsed scene (pointers into *s; params point to s->params). */
 edmi_scene sim_scene_view(const sim_scene *s);
+
+/** \brief Add the scene's walls to a system edmi_load_scene() loaded from its view
+ *  (edmi_add_wall(); an edmi_scene holds no walls). \return EDMI_OK or edmi_add_wall's status. */
+edmi_status sim_scene_add_walls(const sim_scene *s, edmi_system *sys);
 
 /** \brief Parse a scheme name: mp, lg, ge, pm, pt. \return 0 on success, -1 if unknown. */
 int sim_parse_scheme(const char *word, edmi_scheme *out);

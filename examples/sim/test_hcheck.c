@@ -223,7 +223,8 @@ static void run(const char *name, edmi_scheme sch, int move_anchor)
     scn.params.scheme = sch;
     snprintf(where, sizeof where, "%s, %s", name, sim_scheme_word(sch));
     view = sim_scene_view(&scn);
-    if (!CHECK(edmi_load_scene(&sys, &view) == EDMI_OK, where))
+    if (!CHECK(edmi_load_scene(&sys, &view) == EDMI_OK &&
+                   sim_scene_add_walls(&scn, &sys) == EDMI_OK, where))
         return;
     for (i = 0; i < scn.n_forces; i++)
         (void)edmi_set_force(&sys, scn.force_body[i], scn.force[i]);

@@ -798,6 +798,12 @@ static void fz_op_build(fz_in *in, int *n_user)
         st = edmi_set_params(&fz_sys, &prm);
         break;
     case 8:
+        if (fz_u8(in) & 1u) { /* a wall: normal v, offset, any potential (most refused) */
+            edmi_real c = fz_real(in);
+            pot = fz_potential(in, n_user);
+            st = edmi_add_wall(&fz_sys, fz_index(in, fz_sys.n_bodies), v, c, &pot, &idx);
+            break;
+        }
         st = edmi_set_mass_coupling(&fz_sys, fz_index(in, fz_sys.n_bodies),
                                     fz_index(in, fz_sys.n_bodies), fz_real(in));
         break;
@@ -935,6 +941,9 @@ static void fz_op_null(void)
     FZ_NULL(edmi_add_anchor(&fz_sys, 0, 0, &pot, 0));
     FZ_NULL(edmi_set_field(&fz_sys, 0));
     FZ_NULL(edmi_add_damper(0, 0, 1, 0));
+    FZ_NULL(edmi_add_wall(0, 0, v, 0, &pot, 0));
+    FZ_NULL(edmi_add_wall(&fz_sys, 0, 0, 0, &pot, 0));
+    FZ_NULL(edmi_add_wall(&fz_sys, 0, v, 0, 0, 0));
     FZ_NULL(edmi_set_mass_coupling(0, 0, 1, 1));
     FZ_NULL(edmi_move_anchor(&fz_sys, 0, 0));
     FZ_NULL(edmi_set_force(&fz_sys, 0, 0));
