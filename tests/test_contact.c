@@ -472,6 +472,99 @@ static void tc_check_ball(int tilt)
     }
 }
 
+/* Hard cases against walls, both precisions, every decaying scheme, 3,000 steps of 1e-3 s
+ * with substeps and the fallback on: a ball (0.1 kg, R = 0.05, k = 1e6) dropped into the
+ * corner of a floor and a wall tilted 60 degrees, where it wedges and settles (GE loses most
+ * of its energy, PM and PT keep rocking); a ball rolling along the floor exactly at the
+ * contact distance, g = R, without gravity (grazing: the kink under it every step). Each:
+ * no failed or fallback step, every window within the works and the tank (__float128), the
+ * body never through a wall (its gap above 0), and grazing: nothing happens (the stored
+ * momentum changes only where the guard moved, on the first step from an empty tank). */
+static int tc_same_p(const edmi_system *a, const edmi_system *b)
+{
+    return a->body[0].p[0] == b->body[0].p[0] && a->body[0].p[1] == b->body[0].p[1] &&
+           a->body[0].p[2] == b->body[0].p[2];
+}
+
+static void tc_check_wall_cases(void)
+{
+    static const edmi_scheme schemes[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
+    static edmi_system sys, prev;
+    static edmi_workspace work;
+    int s, c;
+    for (c = 0; c < 2; c++)
+        for (s = 0; s < 3; s++) {
+            edmi_params prm = edmi_default_params();
+            edmi_potential pot = edmi_pot_contact(EDMI_R(1e6), EDMI_R(0.05));
+            const edmi_real up[3] = {0, 0, 1}, slope[3] = {EDMI_R(-0.8660254), 0, EDMI_R(0.5)};
+            edmi_real q[3] = {EDMI_R(-0.1), 0, EDMI_R(0.3)}, p[3] = {0, 0, 0};
+            const edmi_real g[3] = {0, 0, EDMI_R(-9.81)};
+            long k, failed = 0, fallbacks = 0, broken = 0, unchecked = 0, moved = 0, moves = 0;
+            long double gmin = 1e30L;
+            if (!th_has_scheme(schemes[s]))
+                continue;
+            prm.scheme = schemes[s];
+            prm.fallback = 1;
+            prm.substep_levels = 3;
+            if (c == 1) { /* grazing */
+                q[0] = 0, q[2] = EDMI_R(0.05);
+                p[0] = EDMI_R(0.1), p[1] = EDMI_R(0.03);
+            }
+            if (!CHECK(edmi_init(&sys, &prm) == EDMI_OK &&
+                       edmi_add_body(&sys, EDMI_R(0.1), q, p, 0) == EDMI_OK &&
+                       edmi_add_wall(&sys, 0, up, EDMI_R(0.0), &pot, 0) == EDMI_OK))
+                return;
+            if (c == 0 && !CHECK(edmi_add_wall(&sys, 0, slope, EDMI_R(0.0), &pot, 0) == EDMI_OK &&
+                                 edmi_set_field(&sys, g) == EDMI_OK))
+                return;
+            tp_window_start(&sys);
+            for (k = 0; k < 3000; k++) {
+                edmi_step_result res;
+                int w, j;
+                prev = sys;
+                if (edmi_step(&sys, &work, EDMI_R(1e-3), &res) != EDMI_OK) {
+                    failed++;
+                    tp_window_start(&sys);
+                    continue;
+                }
+                fallbacks += res.fallbacks;
+                w = tp_window_step(&prev, &sys, &res);
+                broken += w == 0;
+                unchecked += w < 0;
+                for (j = 0; j < sys.n_walls; j++) {
+                    long double gap = (long double)sys.wall[j].n[0] * sys.body[0].q[0] +
+                                      (long double)sys.wall[j].n[1] * sys.body[0].q[1] +
+                                      (long double)sys.wall[j].n[2] * sys.body[0].q[2] -
+                                      (long double)sys.wall[j].c;
+                    gmin = fminl(gmin, gap);
+                }
+                if (c == 1 && !tc_same_p(&prev, &sys))
+                    moved++;
+                moves += res.guard_action != 0;
+            }
+            th_puts(c == 0 ? "  wedged in a corner " : "  grazing a floor ");
+            th_puts(tc_name(schemes[s]));
+            th_puts(": failed ");
+            th_put_int(failed);
+            th_puts(", fallbacks ");
+            th_put_int(fallbacks);
+            th_puts(", windows broken ");
+            th_put_int(broken);
+            th_puts(", smallest gap ");
+            th_put_ld(gmin, 3);
+            if (c == 1) {
+                th_puts(", momentum changed on ");
+                th_put_int(moved);
+                th_puts(" steps, guard moves ");
+                th_put_int(moves);
+            }
+            th_newline();
+            CHECK(failed == 0 && fallbacks == 0 && broken == 0 && unchecked == 0 && gmin > 0.0L);
+            if (c == 1) /* the scheme changes nothing; the guard fills its tank once */
+                CHECK(moved <= moves && moves <= 1);
+        }
+}
+
 void suite_contact(void)
 {
     th_suite("contact: one-sided potentials, collisions and tethers");
@@ -486,4 +579,5 @@ void suite_contact(void)
     tc_check_wall_refused();
     tc_check_ball(0);
     tc_check_ball(1);
+    tc_check_wall_cases();
 }
