@@ -143,7 +143,9 @@ TEST_SRC := $(sort tests/harness.c tests/host_io.c $(wildcard tests/test_*.c tes
 TEST_HDR := $(wildcard tests/*.h) examples/haptic_hand.h
 CONFIGS := double float double-san float-san
 real_of = $(firstword $(subst -, ,$(1)))
-flags_of = $(CFLAGS) $(if $(findstring -san,$(1)),$(SAN))
+# The suites run with walls compiled in (EDMI_MAX_WALLS, 0 by default), as edmi-sim and the fuzzer.
+TEST_CAP := -DEDMI_MAX_WALLS=6
+flags_of = $(CFLAGS) $(TEST_CAP) $(if $(findstring -san,$(1)),$(SAN))
 
 # $(1) = configuration: objects and the binary $(BUILD)/test-$(1)/edmi_tests
 define test_config
@@ -166,7 +168,7 @@ FEAT_decaying := -DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0
 FEAT_coupling := -DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0 -DEDMI_WITH_GE=0 -DEDMI_WITH_PT=0 \
     -DEDMI_WITH_QUARTIC=0 -DEDMI_WITH_NEO_HOOKE=0 -DEDMI_WITH_LJ=0 -DEDMI_WITH_INVERSE=0 \
     -DEDMI_WITH_USER=0 -DEDMI_WITH_CONTACT=0 -DEDMI_WITH_FIELD=0 -DEDMI_WITH_PORTS=0 \
-    -DEDMI_WITH_SCENE=0 -DEDMI_MAX_DAMPERS=0 -DEDMI_MAX_WALLS=0
+    -DEDMI_WITH_SCENE=0 -DEDMI_MAX_DAMPERS=0
 FEAT_conservative := -DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0 -DEDMI_WITH_GUARD=0
 FEATURES := decaying coupling conservative
 FEAT_BINS := $(foreach f,$(FEATURES),$(foreach r,double float,$(BUILD)/feat-$(f)-$(r)/edmi_tests))
@@ -268,7 +270,7 @@ FUZZ_TIME ?= 60
 # store of 300 reals holds the dense matrix up to 5 bodies and, at 6, only a band of pair gap
 # 1 (18 rows of 16): the band layout and its refusals are fuzzed too.
 FUZZ_CAP := -DEDMI_MAX_BODIES=6 -DEDMI_MAX_LINKS=12 -DEDMI_MAX_DAMPERS=4 -DEDMI_MAX_MATRIX=300 \
-            -DEDMI_MAX_MASS_GAP=2
+            -DEDMI_MAX_MASS_GAP=2 -DEDMI_MAX_WALLS=3
 FUZZ_FLAGS := -std=c99 -g -ffp-contract=off -fno-math-errno $(FUZZ_CAP)
 FUZZ_SRC := edmi.c tests/passive.c tests/fuzz/fuzz_api.c
 FUZZ_DEPS := $(FUZZ_SRC) edmi.h tests/passive.h

@@ -64,8 +64,13 @@
  * The three loops that touch work->kd are also inside #if EDMI_MAX_DAMPERS > 0: GCC 12 warns
  * of an out-of-bounds kd[] access in the unreachable body otherwise. */
 #define EDMI__N_DAMPERS(s) (EDMI_MAX_DAMPERS > 0 ? (s)->n_dampers : 0)
-/* Walls in use, the same way (EDMI_MAX_WALLS = 0: the constant 0). */
-#define EDMI__N_WALLS(s) (EDMI_MAX_WALLS > 0 ? (s)->n_walls : 0)
+/* Walls in use: the constant 0 when compiled out (EDMI_MAX_WALLS = 0), where the system and
+ * the workspace have no wall members and the code that reads them is inside #if. */
+#if EDMI_MAX_WALLS > 0
+#define EDMI__N_WALLS(s) ((s)->n_walls)
+#else
+#define EDMI__N_WALLS(s) 0
+#endif
 /* The schemes and potential kinds this build carries (edmi.h, EDMI_WITH_*): bit k is scheme
  * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT of a constant are constants, so a test such as
  * EDMI__HAS_SCHEME(EDMI_LG) && p->scheme == EDMI_LG drops the code behind it when LG is out;
@@ -1612,11 +1617,13 @@ static void edmi__link_vector(const edmi_system *sys, const edmi_link *lk, edmi_
     edmi__sub(sys->body[lk->a].q, lk->b == EDMI_ANCHOR ? lk->anchor : sys->body[lk->b].q, r);
 }
 
+#if EDMI_MAX_WALLS > 0
 /* The gap of body position q to wall wl. */
 static edmi_real edmi__wall_gap(const edmi_wall *wl, const edmi_real q[3])
 {
     return edmi__dot(wl->n, q) - wl->c;
 }
+#endif
 
 /* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use, and
  * where each anchor is at the end of the step (edmi_move_anchor); of every wall, g_n and the
@@ -1654,6 +1661,7 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
     }
     for (i = 0; i < sys->n_moving; i++)
         edmi__copy3(sys->anchor_next[sys->moving[i]], work->lw[sys->moving[i]].x1);
+#if EDMI_MAX_WALLS > 0
     for (i = 0; i < EDMI__N_WALLS(sys); i++) {
         const edmi_wall *wl = &sys->wall[i];
         edmi_link_ws *w = &work->ww[i];
@@ -1668,6 +1676,7 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         w->d3p0 = p0.sp[3];
         w->d3m0 = p0.sm[3];
     }
+#endif
     return EDMI_OK;
 }
 
@@ -1722,6 +1731,7 @@ static void edmi__link_tangent(const edmi_link_ws *w, edmi_real dt, edmi_real k[
  * MP's mid-point as the mean gap); LG takes the closed-form divided difference, which every
  * potential a wall takes has. docs/contact.md. */
 
+#if EDMI_MAX_WALLS > 0
 /* The wall's discrete force f = dt Lambda n for the body's end-of-step position q1, with
  * Lambda and d Lambda / d g_n+1 kept in its workspace (beta, gamma). */
 static edmi_status edmi__wall_force(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
@@ -1770,6 +1780,7 @@ static void edmi__wall_tangent(const edmi_wall *wl, const edmi_link_ws *w, edmi_
         for (c = 0; c < 3; c++)
             k[3 * i + c] = dt * w->gamma * wl->n[i] * wl->n[c];
 }
+#endif
 
 /* Linear viscous damper along a link (docs/api.md, "Features"): impulse
  *     I = c (dr . n) n,   dr = r_n+1 - r_n,   n = r_m / |r_m|,
@@ -1893,12 +1904,14 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
         nsw += sw;
         edmi__add3(f, rp[lk->a]);
     }
+#if EDMI_MAX_WALLS > 0
     for (k = 0; k < EDMI__N_WALLS(sys); k++) {
         st = edmi__wall_force(sys, work, dt, k, q1[sys->wall[k].a], f);
         if (st != EDMI_OK)
             return st;
         edmi__add3(f, rp[sys->wall[k].a]);
     }
+#endif
     st = edmi__effects_residual(sys, work, dt, q1, rp);
     if (st != EDMI_OK)
         return st;
@@ -2096,10 +2109,12 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
         edmi__link_tangent(&work->lw[work->order[j]], dt, k);
         edmi__scatter_anchor(g, row, lk->a, k, work->h[lk->a]);
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) {
         edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, k);
         edmi__scatter_anchor(g, row, sys->wall[j].a, k, work->h[sys->wall[j].a]);
     }
+#endif
 #if EDMI_MAX_DAMPERS > 0
     for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
         const edmi_link *lk = &sys->link[sys->damper[j].link];
@@ -2303,11 +2318,13 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
         for (j = 0; j < EDMI__N_DAMPERS(sys); j++)
             for (i = 0; i < 9; i++)
                 g[i] += h * work->kd[j][i];
+#if EDMI_MAX_WALLS > 0
         for (j = 0; j < EDMI__N_WALLS(sys); j++) {
             edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, k);
             for (i = 0; i < 9; i++)
                 g[i] += h * k[i];
         }
+#endif
         g[0] += EDMI__ONE;
         g[4] += EDMI__ONE;
         g[8] += EDMI__ONE;
@@ -2514,6 +2531,7 @@ static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real 
         if (lk->b != EDMI_ANCHOR)
             acc[2 * lk->b + 1] += x;
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* a link to the plane, of slope dt Lambda' */
         const edmi_wall *wl = &sys->wall[j];
         const edmi_link_ws *w = &work->ww[j];
@@ -2525,6 +2543,7 @@ static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real 
                            EDMI_R(3.0) * k * (EDMI_EPS * (edmi__norm(q1[wl->a]) + edmi__abs(wl->c)) +
                                               acc[2 * wl->a]));
     }
+#endif
 #if EDMI_MAX_DAMPERS > 0
     for (j = 0; j < EDMI__N_DAMPERS(sys); j++) {
         const edmi_link *lk = &sys->link[sys->damper[j].link];
@@ -2987,6 +3006,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
     edmi_real gn = EDMI__HAS_FIELD(sys) ? edmi__norm(sys->g) : EDMI__ZERO;
     int a, i, j, n = 2;
     pl->ok = !EDMI__COUPLED(sys) && EDMI__N_WALLS(sys) == 0; /* walls: double-word alone */
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* their share of S, for the tank's capacity */
         const edmi_wall *wl = &sys->wall[j];
         edmi_pot_parts pp;
@@ -2994,6 +3014,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
         if (edmi__pot_parts(&wl->pot, g1, &pp, 0) == EDMI_OK)
             s1 += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(wl->c));
     }
+#endif
     for (a = 0; a < sys->n_bodies; a++) {
         const edmi_body *bd = &sys->body[a];
         edmi_real m2 = EDMI_R(2.0) * bd->m, t = EDMI__ZERO, mag = EDMI__ZERO;
@@ -3105,6 +3126,7 @@ static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *wor
         for (i = 0; i < 3; i++)
             *x = edmi__max(*x, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* V and V' times the gap's terms, both ends */
         const edmi_wall *wl = &sys->wall[j];
         const edmi_link_ws *w = &work->ww[j];
@@ -3115,6 +3137,7 @@ static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *wor
                    (edmi__abs(pp.v[1]) + edmi__abs(w->dv0)) *
                        (edmi__norm(q1[wl->a]) + edmi__norm(sys->body[wl->a].q) + edmi__abs(wl->c));
     }
+#endif
 }
 
 /* The links' underflow allowance the plain certificate adds (edmi__pot_tiny at both ends),
@@ -3217,6 +3240,7 @@ static void edmi__link_v_dw(const edmi_potential *pot, edmi__dw r[3], const edmi
     }
 }
 
+#if EDMI_MAX_WALLS > 0
 /* A wall's gap g = n.q - c at body position q and V(g), in double-word with the bound *err on
  * V's error, in the balance's units (V times scale^2). The products n_i q_i are exact and
  * their sum errs by a few u^2 of G = sum |n_i q_i| + |c| (taken as EDMI__DW_X G), which
@@ -3256,6 +3280,7 @@ static void edmi__wall_v_dw(const edmi_wall *wl, const edmi_real q[3], const edm
         *err = edmi__up2(bal, *err);
     }
 }
+#endif
 
 /* The start of a step is the end of the last one: unless the caller changed the state (or the
  * workspace served another system), a link's V at d_n was evaluated then. Reused only when the
@@ -3367,6 +3392,7 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         if (bal->scheme_on)
             bal->scheme = edmi__dw_add_z(bal->scheme, edmi__dw_pair(w->bal_sc));
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* every call: a moved body's walls too */
         const edmi_wall *wl = &sys->wall[j];
         edmi__dw g0, g1, v0, v1, dv;
@@ -3387,6 +3413,7 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
                 edmi__dw_sub(edmi__dw_up2(bal, edmi__dw_mul_r(edmi__dw_sub(g1, g0), work->ww[j].beta)),
                              dv));
     }
+#endif
     if (EDMI__HAS_FIELD(sys)) /* V = -sum (M 1)_a g . q_a, each mass entry exact */
         for (a = 0; a < sys->n_bodies; a++) {
             edmi__dw wg;
@@ -4516,11 +4543,13 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
         for (i = 0; i < 3; i++)
             w->f[i] += imp[i] / dt;
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) {
         edmi__scale3(work->ww[j].beta, sys->wall[j].n, work->ww[j].f);
         if (!edmi__finite3(work->ww[j].f))
             return EDMI_ERR_RANGE;
     }
+#endif
     for (i = 0; i < sys->n_moving; i++) {
         j = sys->moving[i];
         wa = edmi__dw_sub(wa, edmi__dw_work(work->lw[j].f, work->lw[j].x1, sys->link[j].anchor, EDMI__ONE));
@@ -4602,12 +4631,14 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         if (!edmi__finite3(w->f))
             return EDMI_ERR_RANGE; /* a moved anchor's force (the kept links' are V'(d_n)) */
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* positions kept: V'(g_n) n, V unchanged */
         work->ww[j].beta = work->ww[j].dv0;
         edmi__scale3(work->ww[j].dv0, sys->wall[j].n, work->ww[j].f);
         s1 += edmi__abs(work->ww[j].v0) +
               edmi__abs(work->ww[j].dv0) * (edmi__abs(work->ww[j].d0) + edmi__abs(sys->wall[j].c));
     }
+#endif
     res->work_ext = EDMI__ZERO;
     res->diss_damping = EDMI__ZERO;
     res->diss_scheme = EDMI__ZERO;
@@ -4894,7 +4925,7 @@ static void edmi__store_forces(edmi_system *sys, const edmi_workspace *work, int
     int j;
     for (j = 0; j < sys->n_links; j++)
         edmi__copy3(summed ? work->lw[j].fsum : work->lw[j].f, sys->link_force[j]);
-#if EDMI_MAX_WALLS > 0 /* (GCC 12 warns of the unreachable body's accesses otherwise) */
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++)
         edmi__copy3(summed ? work->ww[j].fsum : work->ww[j].f, sys->wall_force[j]);
 #endif
@@ -4969,9 +5000,11 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     for (j = 0; j < sys->n_links; j++)
         for (i = 0; i < 3; i++)
             work->lw[j].fsum[i] = EDMI__ZERO;
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++)
         for (i = 0; i < 3; i++)
             work->ww[j].fsum[i] = EDMI__ZERO;
+#endif
     for (i = 0; i < n_moving; i++) {
         j = sys->moving[i];
         edmi__copy3(sys->link[j].anchor, work->lw[j].xs);
@@ -5024,9 +5057,11 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         for (j = 0; j < sys->n_links; j++)
             for (i = 0; i < 3; i++)
                 work->lw[j].fsum[i] += frac * work->lw[j].f[i];
+#if EDMI_MAX_WALLS > 0
         for (j = 0; j < EDMI__N_WALLS(sys); j++)
             for (i = 0; i < 3; i++)
                 work->ww[j].fsum[i] += frac * work->ww[j].f[i];
+#endif
         edmi__commit(sys, work, sub.tank);
         pos += units;
         while (level > 1 && pos % (2 * units) == 0) { /* back to longer substeps */
@@ -5150,9 +5185,11 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
             edmi__link_tangent(&work->lw[j], dt, kl);
         else if (j < sys->n_links + EDMI__N_DAMPERS(sys))
             k = work->kd[j - sys->n_links];
+#if EDMI_MAX_WALLS > 0
         else
             edmi__wall_tangent(&sys->wall[j - sys->n_links - EDMI__N_DAMPERS(sys)],
                                &work->ww[j - sys->n_links - EDMI__N_DAMPERS(sys)], dt, kl);
+#endif
         for (i = 0; i < 9; i++)
             if (!(edmi__abs(k[i]) <= lim))
                 return EDMI_ERR_RANGE;
@@ -5172,10 +5209,12 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
         edmi__scatter(kmat, work->row, &sys->link[sys->damper[j].link], work->kd[j], EDMI__ONE,
                       EDMI__ONE);
 #endif
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) {
         edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, kl);
         edmi__scatter_anchor(kmat, work->row, sys->wall[j].a, kl, EDMI__ONE);
     }
+#endif
     return EDMI_OK;
 }
 
@@ -5265,6 +5304,7 @@ static edmi_status edmi__bodies_links_valid(int n_bodies, const edmi_body *body,
 }
 
 /* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
+#if EDMI_MAX_WALLS > 0
 /* A wall body a may take: a body, n finite and not 0 (unit once stored), c finite, and a
  * potential of the gap (edmi_wall): harmonic, contact or tether, a > 0 and b >= 0 finite. */
 static edmi_status edmi__wall_valid(int n_bodies, int a, const edmi_real n[3], edmi_real c,
@@ -5282,6 +5322,7 @@ static edmi_status edmi__wall_valid(int n_bodies, int a, const edmi_real n[3], e
         return EDMI_ERR_PARAM;
     return EDMI__HAS_POT(pot->kind) ? EDMI_OK : EDMI_ERR_DISABLED;
 }
+#endif
 
 static edmi_status edmi__validate_effects(const edmi_system *sys)
 {
@@ -5291,12 +5332,14 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
         if (st != EDMI_OK)
             return st;
     }
+#if EDMI_MAX_WALLS > 0
     for (i = 0; i < EDMI__N_WALLS(sys); i++) {
         const edmi_wall *wl = &sys->wall[i];
         edmi_status st = edmi__wall_valid(sys->n_bodies, wl->a, wl->n, wl->c, &wl->pot);
         if (st != EDMI_OK)
             return st;
     }
+#endif
     if ((!EDMI_WITH_PORTS && sys->n_forced != 0) || (!EDMI_WITH_FIELD && sys->has_field))
         return EDMI_ERR_DISABLED;
     for (i = 0; i < EDMI__N_FORCED(sys); i++) {
@@ -5326,8 +5369,8 @@ static int edmi__counts_valid(const edmi_system *sys)
 {
     return sys->n_bodies >= 0 && sys->n_bodies <= EDMI_MAX_BODIES && sys->n_links >= 0 &&
            sys->n_links <= EDMI_MAX_LINKS && sys->n_dampers >= 0 &&
-           sys->n_dampers <= EDMI_MAX_DAMPERS && sys->n_walls >= 0 &&
-           sys->n_walls <= EDMI_MAX_WALLS && sys->n_forced >= 0 &&
+           sys->n_dampers <= EDMI_MAX_DAMPERS && EDMI__N_WALLS(sys) >= 0 &&
+           EDMI__N_WALLS(sys) <= EDMI_MAX_WALLS && sys->n_forced >= 0 &&
            sys->n_forced <= sys->n_bodies && sys->n_moving >= 0 &&
            sys->n_moving <= sys->n_links;
 }
@@ -5495,6 +5538,7 @@ static void edmi__write_link(edmi_link *dst, int a, int b, const edmi_real x[3],
     edmi__copy_pot(pot, &dst->pot);
 }
 
+#if EDMI_MAX_WALLS > 0
 /* A validated wall into dst, its normal stored as n / |n|. */
 static void edmi__write_wall(edmi_wall *dst, int a, const edmi_real n[3], edmi_real c,
                              const edmi_potential *pot)
@@ -5507,6 +5551,7 @@ static void edmi__write_wall(edmi_wall *dst, int a, const edmi_real n[3], edmi_r
     dst->c = c;
     edmi__copy_pot(pot, &dst->pot);
 }
+#endif
 
 static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_real x[3],
                                   const edmi_potential *pot, int *index)
@@ -5589,21 +5634,27 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
 edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_real c,
                           const edmi_potential *pot, int *index)
 {
-    edmi_status st;
     if (!sys || !n || !pot)
         return EDMI_ERR_NULL;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
-    st = edmi__wall_valid(sys->n_bodies, a, n, c, pot);
-    if (st != EDMI_OK)
-        return st;
-    if (EDMI__N_WALLS(sys) >= EDMI_MAX_WALLS)
+#if EDMI_MAX_WALLS > 0
+    {
+        edmi_status st = edmi__wall_valid(sys->n_bodies, a, n, c, pot);
+        if (st != EDMI_OK)
+            return st;
+    }
+    if (sys->n_walls >= EDMI_MAX_WALLS)
         return EDMI_ERR_CAPACITY;
     edmi__write_wall(&sys->wall[sys->n_walls], a, n, c, pot);
     if (index)
         *index = sys->n_walls;
     sys->n_walls++;
     return EDMI_OK;
+#else
+    (void)a, (void)c, (void)index;
+    return EDMI_ERR_CAPACITY; /* walls compiled out */
+#endif
 }
 
 edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_ab)
@@ -5864,6 +5915,7 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
             return st;
         iv.v += pp.v[0];
     }
+#if EDMI_MAX_WALLS > 0
     for (a = 0; a < EDMI__N_WALLS(sys); a++) {
         const edmi_wall *wl = &sys->wall[a];
         edmi_pot_parts pp;
@@ -5872,6 +5924,7 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
             return st;
         iv.v += pp.v[0];
     }
+#endif
     if (EDMI__HAS_FIELD(sys))
         for (a = 0; a < sys->n_bodies; a++)
             iv.v -= edmi__mass_row(sys, a) * edmi__dot(sys->g, sys->body[a].q);

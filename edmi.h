@@ -83,10 +83,12 @@
 
 /** Walls per system: a body against a plane, V(g) of its gap g = n.q - c (edmi_add_wall()).
  *  Costs an edmi_wall and 3 reals (its force) in edmi_system and an edmi_link_ws in
- *  edmi_workspace per wall. 0 compiles walls out: the step holds no wall code
- *  (edmi_add_wall() then returns EDMI_ERR_CAPACITY) and the structs keep one unused slot. */
+ *  edmi_workspace per wall (292 B in float on a 32-bit core), and an int. 0 (the default)
+ *  compiles walls out: the step holds no wall code, the structs no wall members
+ *  (sys->n_walls, wall[], wall_force[] exist only with walls), and edmi_add_wall() returns
+ *  EDMI_ERR_CAPACITY. */
 #ifndef EDMI_MAX_WALLS
-#define EDMI_MAX_WALLS 6
+#define EDMI_MAX_WALLS 0
 #endif
 
 /** Coupled masses (the paper's general mass matrix M, section 2): the largest body-index gap
@@ -203,11 +205,7 @@
 #else
 #define EDMI_DAMPER_SLOTS_ 1
 #endif
-#if EDMI_MAX_WALLS > 0
-#define EDMI_WALL_SLOTS_ EDMI_MAX_WALLS
-#else
-#define EDMI_WALL_SLOTS_ 1
-#endif
+
 
 /** The port hook: square root of a non-negative edmi_real. The default is the compiler
  *  builtin, which with -fno-math-errno is one instruction (VSQRT.F32 on Cortex-M4F, VSQRT.F64
@@ -510,8 +508,10 @@ typedef struct edmi_system {
     edmi_real g[3];                      /*!< field acceleration: force m g on every body [L/T^2] */
     int n_dampers;
     edmi_damper damper[EDMI_DAMPER_SLOTS_];
+#if EDMI_MAX_WALLS > 0
     int n_walls;
-    edmi_wall wall[EDMI_WALL_SLOTS_];
+    edmi_wall wall[EDMI_MAX_WALLS];
+#endif
     int n_forced;                        /*!< bodies with an external force port set */
     int forced[EDMI_MAX_BODIES];         /*!< their indices */
     edmi_real force[EDMI_MAX_BODIES][3]; /*!< port force per body (row forced[i] in use) [M L/T^2] */
@@ -536,9 +536,11 @@ typedef struct edmi_system {
      *  algorithmic force plus its dampers [M L/T^2]. The work the anchors did on the system
      *  is -sum link_force . (x_n+1 - x_n), reported as edmi_step_result.work_anchor. */
     edmi_real link_force[EDMI_MAX_LINKS][3];
+#if EDMI_MAX_WALLS > 0
     /** Output of the last successful step: the mean force wall w took from its body over the
      *  step, V'(g) n in the scheme's discrete form [M L/T^2] (the body felt its opposite). */
-    edmi_real wall_force[EDMI_WALL_SLOTS_][3];
+    edmi_real wall_force[EDMI_MAX_WALLS][3];
+#endif
     /* Where the factors of the last step's Newton matrix are kept: the workspace, that step's
      * dt and sizes (edmi_step). The next step with the same workspace and dt starts Newton
      * from them. */
@@ -967,7 +969,9 @@ struct edmi_workspace {
     edmi_real p0[EDMI_MAX_BODIES][3];
     edmi_real mat[EDMI_MAX_MATRIX];    /* Newton matrix: element (i, j) at mat[row[i] + j] */
     edmi_link_ws lw[EDMI_MAX_LINKS];
-    edmi_link_ws ww[EDMI_WALL_SLOTS_]; /* walls: d0 = g_n, beta = Lambda, gamma = d Lambda / d g */
+#if EDMI_MAX_WALLS > 0
+    edmi_link_ws ww[EDMI_MAX_WALLS]; /* walls: d0 = g_n, beta = Lambda, gamma = d Lambda / d g */
+#endif
     edmi_real kd[EDMI_DAMPER_SLOTS_][9]; /* damper tangent blocks */
     edmi_real kend[EDMI_MAX_BODIES][5];  /* p and |p|^2 (double-word) at the last balance's end */
     int row[3 * EDMI_MAX_BODIES];      /* the Newton matrix's row offsets */

@@ -55,7 +55,7 @@
 #define TGT_N ((unsigned long)EDMI_MAX_BODIES)
 #define TGT_L ((unsigned long)EDMI_MAX_LINKS)
 #define TGT_D ((unsigned long)EDMI_DAMPER_SLOTS_) /* EDMI_MAX_DAMPERS = 0 keeps one slot */
-#define TGT_W ((unsigned long)EDMI_WALL_SLOTS_)   /* EDMI_MAX_WALLS = 0 keeps one slot */
+#define TGT_W ((unsigned long)EDMI_MAX_WALLS) /* 0: no wall members at all */
 #define TGT_RP TGT_MAX(TGT_R, TGT_P)
 
 #define TGT_PARAMS \
@@ -68,8 +68,9 @@
 #define TGT_S2 (TGT_UP(TGT_S1, TGT_RP) + TGT_L * TGT_LINK + 4u)
 #define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
 #define TGT_S4                                                                              \
-    (TGT_UP(TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u, TGT_RP) + TGT_W * TGT_WALL + 4u +  \
-     4u * TGT_N)
+    (TGT_W > 0u ? TGT_UP(TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u, TGT_RP) +             \
+                      TGT_W * TGT_WALL + 4u + 4u * TGT_N                                      \
+                : TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
 #define TGT_G ((unsigned long)EDMI_MAX_MASS_GAP)
 #define TGT_S6                                                                              \
@@ -88,18 +89,21 @@
 
 /* The closed forms of docs/sizing.md: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
  * K + R M + b N + l L + d D + w W + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
- *   float:  K = 132 with 4-byte pointers and 1-byte enums (arm-none-eabi), 140 with 4-byte
- *           enums, 152 with 8-byte pointers; b = 196, d = 44; l = 312 and w = 292 with 4-byte
+ *   (W = EDMI_MAX_WALLS; with W > 0, K is 4 more in float and 8 in double: n_walls)
+ *   float:  K = 128 with 4-byte pointers and 1-byte enums (arm-none-eabi), 136 with 4-byte
+ *           enums, 148 with 8-byte pointers; b = 196, d = 44; l = 312 and w = 292 with 4-byte
  *           pointers, 332 and 312 with 8-byte ones; pad = 0 with 4-byte pointers, else 4 when
- *           N is odd (alignment of link[] after body[N]) + 4 when L + N G + W is even (the
- *           system's tail, rounded up to the pointers' 8) + 4 when N + D + W is even (the
- *           walls after the dampers, and the workspace's pointer to whose factors it keeps)
- *   double: K = 204 with 1-byte enums, 212 with 4-byte ones; b = 364, d = 88;
+ *           N is odd (alignment of link[] after body[N]) + 4 when L + N G + W is odd (W = 0)
+ *           or even (W > 0) (the system's tail, rounded up to the pointers' 8) + 4 when
+ *           N + D + W is even (the walls after the dampers, and the workspace's pointer to
+ *           whose factors it keeps)
+ *   double: K = 196 with 1-byte enums, 204 with 4-byte ones; b = 364, d = 88;
  *           l = 592 and w = 568 with 4-byte pointers, 600 and 576 with 8-byte ones; pad = 4
  *           when N is even (the int array forced[N] before force[N][3]) + with 8-byte
  *           pointers 8 when L is even (the int arrays moving[L] before anchor_next[L][3]) */
 #define TGT_CLOSED_K                                                                        \
-    ((TGT_R == 4u ? (TGT_P == 4u ? 132u : 144u) : 204u) + (TGT_E == 4u ? 8u : 0u))
+    ((TGT_R == 4u ? (TGT_P == 4u ? 128u : 140u) : 196u) + (TGT_E == 4u ? 8u : 0u) +           \
+     (TGT_W > 0u ? (TGT_R == 4u ? 4u : 8u) : 0u))
 #define TGT_CLOSED_B (TGT_R == 4u ? 196u : 364u)
 #define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 312u : 592u) : (TGT_R == 4u ? 332u : 600u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
@@ -107,6 +111,9 @@
 #define TGT_CLOSED_PAD                                                                      \
     (TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) +                                             \
                        (TGT_P == 8u && TGT_L % 2u == 0u ? 8u : 0u)                             \
+     : TGT_P == 8u && TGT_W == 0u                                                             \
+         ? (TGT_N % 2u == 1u ? 4u : 0u) + ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) +    \
+               ((TGT_N + TGT_D) % 2u == 0u ? 4u : 0u)                                         \
      : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) +                                         \
                          ((TGT_L + TGT_N * TGT_G + TGT_W) % 2u == 0u ? 4u : 0u) +             \
                          ((TGT_N + TGT_D + TGT_W) % 2u == 0u ? 4u : 0u)                       \

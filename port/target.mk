@@ -147,14 +147,15 @@ $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),$(eval $(call tgt_cap_rul
 
 # Build options (edmi.h, EDMI_WITH_*) on the Cortex-M4F, float, -Os: each feature alone
 # compiled out of the default build (an upper-case name X is -DEDMI_WITH_X=0; DAMPERS is
-# EDMI_MAX_DAMPERS=0), then the configurations the Makefile tests (FEAT_*), and coupling at a
+# EDMI_MAX_DAMPERS=0), walls compiled in (WALLS-6: EDMI_MAX_WALLS=6), then the configurations the Makefile tests (FEAT_*), and coupling at a
 # one-body capacity (1 body, 2 links), without and with the damper README's haptic recipe adds.
 TGT_OPTS := default MP LG LG_QUOTIENT GE PM PT HARMONIC QUARTIC NEO_HOOKE LJ INVERSE USER CONTACT \
-            FIELD PORTS SCENE DAMPERS $(FEATURES) coupling-1 coupling-damper-1
+            FIELD PORTS SCENE DAMPERS WALLS-6 $(FEATURES) coupling-1 coupling-damper-1
 FEAT_coupling-1 = $(FEAT_coupling) -DEDMI_MAX_BODIES=1 -DEDMI_MAX_LINKS=2
 FEAT_coupling-damper-1 = $(filter-out -DEDMI_MAX_DAMPERS=0,$(FEAT_coupling-1)) -DEDMI_MAX_DAMPERS=1
 tgt_optdefs = $(if $(filter default,$(1)),,$(if $(filter DAMPERS,$(1)),-DEDMI_MAX_DAMPERS=0,\
-                  $(if $(FEAT_$(1)),$(FEAT_$(1)),-DEDMI_WITH_$(1)=0)))
+                  $(if $(filter WALLS-6,$(1)),-DEDMI_MAX_WALLS=6,\
+                  $(if $(FEAT_$(1)),$(FEAT_$(1)),-DEDMI_WITH_$(1)=0))))
 $(TGT)/opt-m4f-float/%/edmi.o: edmi.c edmi.h
 	@mkdir -p $(@D)
 	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) -DEDMI_REAL=float \
@@ -219,9 +220,15 @@ $(TGT)/$(1)/startup.o: port/cortex-m/startup.S
 $(TGT)/$(1)/port-%.o: port/cortex-m/%.c $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
 	$$(ARM_CC) $$(LIBFLAGS) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) -c $$< -o $$@
+# the suite with walls compiled in (TEST_CAP), as on the host; the programs below link the
+# library at its defaults, with helpers built the same way (lib-%.o)
+$(TGT)/$(1)/edmi-tests.o: edmi.c edmi.h
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(LIBFLAGS) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_LIB_OPT) $$(TEST_CAP) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
 $(TGT)/$(1)/tests-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TEST_CAP) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
 $(TGT)/$(1)/app-%.o: port/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
@@ -232,7 +239,7 @@ $(TGT)/$(1)/app-smoke_%.o: port/smoke_test.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT
 	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -DTGT_SMOKE_$$* -c $$< -o $$@
 TGT_RT_$(1) := $(TGT)/$(1)/startup.o $(TGT)/$(1)/port-crt.o $(TGT)/$(1)/port-semihost.o
-$(TGT)/$(1)/edmi_tests.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) \
+$(TGT)/$(1)/edmi_tests.elf: $(TGT)/$(1)/edmi-tests.o $$(TGT_RT_$(1)) \
 		$$(patsubst tests/%.c,$(TGT)/$(1)/tests-%.o,$$(TGT_TEST_SRC)) $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections -Wl,-Map=$$@.map $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
@@ -271,8 +278,12 @@ $(TGT)/$(1)-spd/mass_spd.elf: $(TGT)/$(1)-spd/edmi.o $$(TGT_RT_$(1)) \
 		$$(patsubst tests/%.c,$(TGT)/$(1)-spd/tests-%.o,$$(TGT_MASS_SPD_SRC)) $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
+$(TGT)/$(1)/lib-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
 $(TGT)/$(1)/smoke-%.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-smoke_%.o \
-		$(TGT)/$(1)/tests-harness.o $(TGT)/$(1)/tests-target_io.o $(TGT_LD)
+		$(TGT)/$(1)/lib-harness.o $(TGT)/$(1)/lib-target_io.o $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
 endef

@@ -190,6 +190,14 @@ static void tp_link_vec(const edmi_system *s, int j, tp_q r[3])
         r[i] = (tp_q)s->body[lk->a].q[i] - (tp_q)xb[i];
 }
 
+/* The walls of state s (none where the build compiles them out: no wall members). */
+#if EDMI_MAX_WALLS > 0
+#define TP_N_WALLS(s) ((s)->n_walls)
+#else
+#define TP_N_WALLS(s) 0
+#endif
+
+#if EDMI_MAX_WALLS > 0
 /* V of wall j in state s, from its gap g = n.q - c in tp_q (each product of two stored reals
  * exact, their sum within a few tp_q units of G = sum |n_i q_i| + |c|), and its magnitude *mag
  * as tp_pot's: harmonic a/2 x^2, one-sided a/3 x^3 for x > 0 (x = g - b, or b - g for
@@ -223,6 +231,7 @@ static int tp_wall_v(const edmi_system *s, int j, tp_q *v, tp_q *mag)
         return 0;
     }
 }
+#endif
 
 /* The squared length of link j in state s, and the length *d, in tp_q. */
 static tp_q tp_link_sq(const edmi_system *s, int j, tp_q *d)
@@ -424,6 +433,7 @@ static int tp_delta_q(const edmi_system *s0, const edmi_system *s1, const edmi_s
         dh += v1 - v0;
         mag += m0 + m1;
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < s0->n_walls; j++) {
         tp_q v0, v1, m0, m1;
         if (!tp_wall_v(s0, j, &v0, &m0) || !tp_wall_v(s1, j, &v1, &m1))
@@ -431,6 +441,7 @@ static int tp_delta_q(const edmi_system *s0, const edmi_system *s1, const edmi_s
         dh += v1 - v0;
         mag += m0 + m1;
     }
+#endif
     out->dh = dh;
     out->w = (tp_q)res->work_ext + (tp_q)res->work_anchor + ((tp_q)s0->tank - (tp_q)s1->tank);
     out->err = TP_ERR_ULPS * TP_Q_EPS *
@@ -757,6 +768,7 @@ static int tp_pot_dw(const edmi_potential *p, tp_dw s, tp_dw *v, double *mag)
     }
 }
 
+#if EDMI_MAX_WALLS > 0
 /* V of wall j in double-word (as tp_wall_v), and its magnitude as tp_pot_dw's: the gap's
  * products exact, their sum within a few u^2 of G, taken as 2^-40 of it (as the lengths). */
 static int tp_wall_v_dw(const edmi_system *s, int j, tp_dw *v, double *mag)
@@ -789,6 +801,7 @@ static int tp_wall_v_dw(const edmi_system *s, int j, tp_dw *v, double *mag)
         return 0;
     }
 }
+#endif
 
 /* H(s), its magnitude and count of terms (tp_h_dw's work, flags aside); 0 if a term is not
  * evaluated here (a coupled M, or what tp_pot_dw refuses). */
@@ -828,6 +841,7 @@ static int tp_h_dw_eval(const edmi_system *s, tp_hdw *h)
         sum = n++ ? tp_dw_add(sum, t) : t;
         mag += mj;
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < s->n_walls; j++) {
         double mj;
         if (!tp_wall_v_dw(s, j, &t, &mj))
@@ -835,6 +849,7 @@ static int tp_h_dw_eval(const edmi_system *s, tp_hdw *h)
         sum = n++ ? tp_dw_add(sum, t) : t;
         mag += mj;
     }
+#endif
     h->hi = sum.hi;
     h->lo = sum.lo;
     h->mag = mag;
@@ -874,7 +889,7 @@ int tp_delta_dw(const edmi_system *s0, const tp_hdw *h0, const edmi_system *s1,
     double t0 = (double)s0->tank, t1 = (double)s1->tank, mag, thr;
     int a, i;
     if (!h0->ok || !h1->ok || s0->n_bodies != s1->n_bodies || s0->n_links != s1->n_links ||
-        s0->n_walls != s1->n_walls || s0->has_field != s1->has_field)
+        TP_N_WALLS(s0) != TP_N_WALLS(s1) || s0->has_field != s1->has_field)
         return 0;
     for (a = 0; a < s0->n_bodies; a++) /* tp_delta_h takes s0's masses and field for both */
         if (s0->body[a].m != s1->body[a].m)
@@ -998,11 +1013,13 @@ static int tp_hq(const edmi_system *s, tp_q *out)
         if (tp_pot(&s->link[j].pot, sq, d, &v, &m))
             h += v;
     }
+#if EDMI_MAX_WALLS > 0
     for (j = 0; j < s->n_walls; j++) {
         tp_q v, m;
         if (tp_wall_v(s, j, &v, &m))
             h += v;
     }
+#endif
     *out = h;
     return 1;
 }
@@ -1864,7 +1881,9 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         tp_one.link[0] = *lk;
         tp_one.n_links = 1;
         tp_one.n_dampers = 0;
+#if EDMI_MAX_WALLS > 0
         tp_one.n_walls = 0;
+#endif
         tp_one.n_moving = 0;
         for (i = 0; i < s0->n_moving; i++)
             if (s0->moving[i] == j) {
@@ -1891,7 +1910,8 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         if (lk->b != EDMI_ANCHOR)
             tp_pm[lk->b] += x;
     }
-    for (j = 0; j < s0->n_walls && j < EDMI_WALL_SLOTS_; j++) { /* as a link to the plane */
+#if EDMI_MAX_WALLS > 0
+    for (j = 0; j < s0->n_walls; j++) { /* as a link to the plane */
         const edmi_wall *wl = &s0->wall[j];
         long double k = 0.0L;
         a = wl->a;
@@ -1912,6 +1932,7 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
             k = ldt * (long double)wl->pot.a;
         tp_pm[a] += 12.0L * k * (tp_n3l(tp_q1[a]) + tp_absl((long double)wl->c) + tp_qm[a]);
     }
+#endif
     for (j = 0; j < s0->n_dampers && j < EDMI_DAMPER_SLOTS_; j++) {
         const edmi_link *lk = &s0->link[s0->damper[j].link];
         const edmi_real *xb1;

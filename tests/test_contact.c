@@ -296,6 +296,7 @@ static void tc_check_runs(int pair)
     }
 }
 
+#if EDMI_MAX_WALLS > 0
 /* ---- walls ------------------------------------------------------------------------------ */
 
 /* Refused walls: no body, a normal of length 0 or not finite, an offset not finite, a
@@ -564,6 +565,7 @@ static void tc_check_wall_cases(void)
                 CHECK(moved <= moves && moves <= 1);
         }
 }
+#endif
 
 void suite_contact(void)
 {
@@ -574,10 +576,12 @@ void suite_contact(void)
     tc_check_refused();
     tc_check_runs(1);
     tc_check_runs(0);
-    if (th_skip(EDMI_MAX_WALLS > 0, "walls (EDMI_MAX_WALLS = 0)"))
-        return;
+#if EDMI_MAX_WALLS > 0
     tc_check_wall_refused();
     tc_check_ball(0);
     tc_check_ball(1);
     tc_check_wall_cases();
+#else
+    (void)th_skip(0, "walls (EDMI_MAX_WALLS = 0)");
+#endif
 }
