@@ -30,6 +30,9 @@
 #> make haptic          5 s      needs gnuplot for the figure
 #>     the 1 kHz virtual coupling (examples/haptic.c): its table and trace, and the figure
 #>     where gnuplot is installed
+#> make haptic-wall     5 s      needs gnuplot for the figure
+#>     a device touching a wall at 1 kHz (examples/haptic_wall.c): which device damping keeps
+#>     the loop passive, the wall explicit or edmi's behind a virtual coupling; its figure
 #> make plots           2 min    needs gnuplot for the figures
 #>     traces of the paper's examples and every figure in examples/figures/ (without gnuplot:
 #>     the traces and the cable's table only)

@@ -1,5 +1,6 @@
 /* A 1 kHz virtual coupling: a tool of 0.1 kg on a 3 N/mm spring and a damper to the hand.
- * Each tick: read the hand, move the anchor there, step, render the link's force. */
+ * Each tick: read the hand (where it is at the tick's start), move the anchor there (it gets
+ * there at the tick's end: one tick late), step, render the link's force over the next tick. */
 #include <math.h>
 #include <stdio.h>
 #include "edmi.h"
@@ -7,10 +8,11 @@
 static edmi_system sys;
 static edmi_workspace work;
 
-/* The device: here a hand that reaches 5 cm and wobbles at 3 Hz, and a console. */
+/* The device: here a hand that reaches 5 cm and wobbles at 3 Hz, measured at the start of
+ * tick `tick` (t = (tick - 1) ms), and a console. */
 static void read_hand(long tick, edmi_real x[3])
 {
-    double t = 1e-3 * (double)tick;
+    double t = 1e-3 * (double)(tick - 1);
     x[0] = (edmi_real)(0.05 * (1.0 - cos(3.14159 * t)) + 0.002 * sin(18.85 * t));
     x[1] = x[2] = 0;
 }

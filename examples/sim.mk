@@ -51,7 +51,7 @@ SIM_OPT ?= -O3
 # capacity.
 SIM_CAP := -DEDMI_MAX_MASS_GAP=2 -DEDMI_MAX_WALLS=128 -DEDMI_MAX_LINKS=128
 
-.PHONY: sim test-scene run-examples plots bench bench-profile guard-cost orbits haptic study
+.PHONY: sim test-scene run-examples plots bench bench-profile guard-cost orbits haptic haptic-wall study
 
 all: $(SIM_BIN) $(SIM_TEST)
 sim: $(SIM_BIN) $(SIM_TEST)
@@ -119,6 +119,25 @@ haptic: $(HOST)/haptic
 	        examples/plots/haptic.gp && echo "  $(SIM_FIGURES)/haptic_energy.png"; \
 	else \
 	    echo "make haptic: gnuplot not found: skipped $(SIM_FIGURES)/haptic_energy.png (the trace is $(SIM_PLOTS)/haptic.csv)"; \
+	fi
+
+# A device touching a wall at 1 kHz (examples/haptic_wall.c): the library with walls, its own
+# object; the table, and the passivity map's figure where gnuplot is installed.
+$(HOST)/wall/edmi.o: edmi.c edmi.h
+	@mkdir -p $(@D)
+	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -DEDMI_MAX_WALLS=1 -c $< -o $@
+$(HOST)/wall/haptic_wall: examples/haptic_wall.c $(HOST)/wall/edmi.o edmi.h
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -DEDMI_MAX_WALLS=1 -I. $< \
+	    $(HOST)/wall/edmi.o -o $@ $(LDLIBS)
+
+haptic-wall: $(HOST)/wall/haptic_wall
+	@mkdir -p $(SIM_PLOTS) $(SIM_FIGURES)
+	$(HOST)/wall/haptic_wall --csv $(SIM_PLOTS)/haptic_wall.csv
+	@if command -v gnuplot >/dev/null 2>&1; then \
+	    gnuplot -e "data='$(SIM_PLOTS)'; out='$(SIM_FIGURES)/haptic_wall.png'" \
+	        examples/plots/haptic_wall.gp && echo "  $(SIM_FIGURES)/haptic_wall.png"; \
+	else \
+	    echo "make haptic-wall: gnuplot not found: skipped $(SIM_FIGURES)/haptic_wall.png (the table is $(SIM_PLOTS)/haptic_wall.csv)"; \
 	fi
 
 # The benchmark needs large capacities in the library and the program alike.
