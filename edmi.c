@@ -1618,10 +1618,11 @@ static void edmi__link_vector(const edmi_system *sys, const edmi_link *lk, edmi_
 }
 
 #if EDMI_MAX_WALLS > 0
-/* The gap of body position q to wall wl. */
-static edmi_real edmi__wall_gap(const edmi_wall *wl, const edmi_real q[3])
+/* The gap of body position q to wall wl placed at offset c (wl->c at the step's start, its
+ * workspace's x1[0] at the end). */
+static edmi_real edmi__wall_gap(const edmi_wall *wl, const edmi_real q[3], edmi_real c)
 {
-    return edmi__dot(wl->n, q) - wl->c;
+    return edmi__dot(wl->n, q) - c;
 }
 #endif
 
@@ -1666,7 +1667,8 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         const edmi_wall *wl = &sys->wall[i];
         edmi_link_ws *w = &work->ww[i];
         edmi_pot_parts p0;
-        w->d0 = edmi__wall_gap(wl, sys->body[wl->a].q);
+        w->x1[0] = sys->wall_next[i]; /* where it is at the step's end */
+        w->d0 = edmi__wall_gap(wl, sys->body[wl->a].q, wl->c);
         if (edmi__pot_parts(&wl->pot, w->d0, &p0, 1) != EDMI_OK || !edmi__finite(w->d0) ||
             !edmi__finite(p0.v[0]) || !edmi__finite(p0.v[1]))
             return EDMI_ERR_RANGE; /* the start's energy or force beyond the range: refused */
@@ -1744,7 +1746,7 @@ static edmi_status edmi__wall_force(const edmi_system *sys, edmi_workspace *work
     edmi__at_end e;
     edmi_real lam = EDMI__ZERO, dlam = EDMI__ZERO;
     edmi_status st = EDMI_OK;
-    e.d1 = edmi__wall_gap(wl, q1);
+    e.d1 = edmi__wall_gap(wl, q1, w->x1[0]);
     if (!edmi__finite(e.d1))
         return EDMI_ERR_DIVERGED;
     if (EDMI__HAS_SCHEME(EDMI_MP) && s == EDMI_MP) {
@@ -3010,7 +3012,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* their share of S, for the tank's capacity */
         const edmi_wall *wl = &sys->wall[j];
         edmi_pot_parts pp;
-        edmi_real g1 = edmi__wall_gap(wl, q1[wl->a]);
+        edmi_real g1 = edmi__wall_gap(wl, q1[wl->a], work->ww[j].x1[0]);
         if (edmi__pot_parts(&wl->pot, g1, &pp, 0) == EDMI_OK)
             s1 += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(wl->c));
     }
@@ -3130,7 +3132,7 @@ static void edmi__scale_inputs(const edmi_system *sys, const edmi_workspace *wor
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* V and V' times the gap's terms, both ends */
         const edmi_wall *wl = &sys->wall[j];
         const edmi_link_ws *w = &work->ww[j];
-        edmi_real g1 = edmi__wall_gap(wl, q1[wl->a]);
+        edmi_real g1 = edmi__wall_gap(wl, q1[wl->a], work->ww[j].x1[0]);
         edmi_pot_parts pp;
         if (edmi__pot_parts(&wl->pot, g1, &pp, 0) == EDMI_OK)
             *so += edmi__abs(pp.v[0]) + edmi__abs(w->v0) +
@@ -3241,20 +3243,20 @@ static void edmi__link_v_dw(const edmi_potential *pot, edmi__dw r[3], const edmi
 }
 
 #if EDMI_MAX_WALLS > 0
-/* A wall's gap g = n.q - c at body position q and V(g), in double-word with the bound *err on
+/* A wall's gap g = n.q - c at body position q (the wall at offset c) and V(g), in double-word with the bound *err on
  * V's error, in the balance's units (V times scale^2). The products n_i q_i are exact and
  * their sum errs by a few u^2 of G = sum |n_i q_i| + |c| (taken as EDMI__DW_X G), which
  * reaches V through V' (the gap's harmonic k x or one-sided k x^2, x = g - b or b - g):
  * m = a xe^(p-1) (xe + G + b), xe = |x| + EDMI__DW_X (G + b), p = 2 or 3; a one-sided form
  * more than twice that from its kink on the free side is 0 exactly, with no error. */
-static void edmi__wall_v_dw(const edmi_wall *wl, const edmi_real q[3], const edmi__balance *bal,
-                            edmi__dw *g, edmi__dw *v, edmi_real *err)
+static void edmi__wall_v_dw(const edmi_wall *wl, const edmi_real q[3], edmi_real c,
+                            const edmi__balance *bal, edmi__dw *g, edmi__dw *v, edmi_real *err)
 {
     const edmi_potential *pot = &wl->pot;
-    edmi_real a = pot->a, b = pot->b, big = edmi__abs(wl->c), xe, m;
+    edmi_real a = pot->a, b = pot->b, big = edmi__abs(c), xe, m;
     edmi__dw x;
     int i;
-    *g = edmi__dw_of(-wl->c);
+    *g = edmi__dw_of(-c);
     for (i = 0; i < 3; i++) {
         *g = edmi__dw_add(*g, edmi__two_prod(wl->n[i], q[i]));
         big += edmi__abs(wl->n[i] * q[i]);
@@ -3397,16 +3399,18 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
         const edmi_wall *wl = &sys->wall[j];
         edmi__dw g0, g1, v0, v1, dv;
         edmi_real e0, e1;
-        if (edmi__same3(q1[wl->a], sys->body[wl->a].q))
+        edmi_real c1 = work->ww[j].x1[0];
+        if (edmi__same3(q1[wl->a], sys->body[wl->a].q) && c1 == wl->c)
             continue; /* exactly 0 */
-        edmi__wall_v_dw(wl, sys->body[wl->a].q, bal, &g0, &v0, &e0);
-        edmi__wall_v_dw(wl, q1[wl->a], bal, &g1, &v1, &e1);
+        edmi__wall_v_dw(wl, sys->body[wl->a].q, wl->c, bal, &g0, &v0, &e0);
+        edmi__wall_v_dw(wl, q1[wl->a], c1, bal, &g1, &v1, &e1);
         dv = edmi__dw_sub(v1, v0);
         bal->dv = edmi__dw_add_z(bal->dv, dv);
         bal->err_v += e0 + e1;
         bal->size_v += edmi__abs(v0.hi) + edmi__abs(v1.hi) +
                        edmi__up2(bal, edmi__abs(work->ww[j].beta) *
-                                          (edmi__abs(g0.hi) + edmi__abs(g1.hi) + edmi__abs(wl->c)));
+                                          (edmi__abs(g0.hi) + edmi__abs(g1.hi) + edmi__abs(wl->c) +
+                                           edmi__abs(c1)));
         if (bal->scheme_on) /* the work of f = dt Lambda n per dt, Lambda (g_n+1 - g_n), less dv */
             bal->scheme = edmi__dw_add_z(
                 bal->scheme,
@@ -4035,14 +4039,15 @@ static void edmi__round_apply(edmi_workspace *work, const edmi__comp *c, int n, 
 
 /* Change K by about `goal` with one impulse along the link that can best do it: equal and
  * opposite on a pair's two bodies (keeps L, J, C), radial on an anchored body (keeps J about
- * its anchor). The impulse lambda along the unit link vector u changes K by
+ * its anchor), along a wall's normal on its body (keeps the momentum along the wall and J
+ * about the normal). The impulse lambda along the unit vector u changes K by
  * -lambda w + lambda^2 / (2 mu), w the ends' relative velocity along u, mu their reduced
- * mass: it can remove at most mu w^2 / 2. Returns 0 if no link can. */
+ * mass: it can remove at most mu w^2 / 2. Returns 0 if no link or wall can. */
 static int edmi__guard_impulse(const edmi_system *sys, edmi_workspace *work, edmi_real goal)
 {
     edmi_real best = EDMI__ZERO, u[3] = {EDMI__ZERO, EDMI__ZERO, EDMI__ZERO}, bw = EDMI__ZERO;
     edmi_real bmu = EDMI__ZERO, disc, lam;
-    int j, i, bj = -1;
+    int j, i, bj = -1, ba = -1, bb = EDMI_ANCHOR;
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
@@ -4068,12 +4073,32 @@ static int edmi__guard_impulse(const edmi_system *sys, edmi_workspace *work, edm
         if (bj < 0 || cap > best) {
             best = cap;
             bj = j;
+            ba = lk->a;
+            bb = lk->b;
             bw = w;
             bmu = mu;
             for (i = 0; i < 3; i++)
                 u[i] = r[i] / d;
         }
     }
+#if EDMI_MAX_WALLS > 0
+    for (j = 0; j < sys->n_walls; j++) { /* a wall: along its normal, as an anchor link */
+        const edmi_wall *wl = &sys->wall[j];
+        edmi_real mu = sys->body[wl->a].m, w = edmi__dot(work->p1[wl->a], wl->n) / mu;
+        edmi_real cap = EDMI__HALF * mu * w * w;
+        if (goal < EDMI__ZERO && cap < -goal * EDMI_R(2.0))
+            continue;
+        if (bj < 0 || cap > best) {
+            best = cap;
+            bj = sys->n_links + j;
+            ba = wl->a;
+            bb = EDMI_ANCHOR;
+            bw = w;
+            bmu = mu;
+            edmi__copy3(wl->n, u);
+        }
+    }
+#endif
     if (bj < 0)
         return 0;
     /* the root of lambda^2/(2 mu) - lambda w - goal = 0 nearer 0, without cancellation */
@@ -4082,9 +4107,9 @@ static int edmi__guard_impulse(const edmi_system *sys, edmi_workspace *work, edm
     if (!edmi__finite(lam))
         return 0;
     for (i = 0; i < 3; i++) {
-        work->p1[sys->link[bj].a][i] -= lam * u[i];
-        if (sys->link[bj].b != EDMI_ANCHOR)
-            work->p1[sys->link[bj].b][i] += lam * u[i];
+        work->p1[ba][i] -= lam * u[i];
+        if (bb != EDMI_ANCHOR)
+            work->p1[bb][i] += lam * u[i];
     }
     return 1;
 }
@@ -4316,7 +4341,8 @@ static void edmi__guard_stop(const edmi_system *sys, edmi_workspace *work)
  *            anchor away from the origin, whose spring pulls on p while q cannot move by less
  *            than a unit); q_n+1 = q_n stays the scheme's position at a turning point;
  *   IMPULSE  an impulse along the link that can best take it (keeps L, J and C; J about the
- *            anchor on an anchor link), where more than a couple of units are needed: the
+ *            anchor on an anchor link), or along a wall's normal (keeps the momentum along
+ *            the wall, J about the normal), where more than a couple of units are needed: the
  *            bulk of a real rise (MP or LG under EDMI_GUARD_ON), which a drag would take
  *            with J;
  *   ROUND    energy-aware rounding of the momenta (and of one body's position) within
@@ -4544,10 +4570,13 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
             w->f[i] += imp[i] / dt;
     }
 #if EDMI_MAX_WALLS > 0
-    for (j = 0; j < EDMI__N_WALLS(sys); j++) {
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* its force, and a moving wall's work */
+        edmi_real c0 = sys->wall[j].c, c1 = work->ww[j].x1[0];
         edmi__scale3(work->ww[j].beta, sys->wall[j].n, work->ww[j].f);
         if (!edmi__finite3(work->ww[j].f))
             return EDMI_ERR_RANGE;
+        if (c1 != c0) /* -Lambda (c_n+1 - c_n), the difference and product exact */
+            wa = edmi__dw_sub(wa, edmi__dw_mul_r(edmi__two_sum(c1, -c0), work->ww[j].beta));
     }
 #endif
     for (i = 0; i < sys->n_moving; i++) {
@@ -4580,7 +4609,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
     edmi__balance bal;
     edmi__aim t;
     edmi_real wa, s1 = EDMI__ZERO, so = edmi__tank_n(sys), xh = EDMI__ZERO, after;
-    int a, i, j, pass;
+    int a, i, j, pass, moved_walls = 0;
     edmi_status st;
     for (a = 0; a < sys->n_bodies; a++) {
         edmi__copy3(sys->body[a].q, work->q1[a]);
@@ -4632,11 +4661,20 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
             return EDMI_ERR_RANGE; /* a moved anchor's force (the kept links' are V'(d_n)) */
     }
 #if EDMI_MAX_WALLS > 0
-    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* positions kept: V'(g_n) n, V unchanged */
-        work->ww[j].beta = work->ww[j].dv0;
-        edmi__scale3(work->ww[j].dv0, sys->wall[j].n, work->ww[j].f);
-        s1 += edmi__abs(work->ww[j].v0) +
-              edmi__abs(work->ww[j].dv0) * (edmi__abs(work->ww[j].d0) + edmi__abs(sys->wall[j].c));
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* positions kept: V'(g) n at the step's end */
+        const edmi_wall *wl = &sys->wall[j];
+        edmi_link_ws *w = &work->ww[j];
+        edmi_pot_parts pp;
+        edmi_real g1 = edmi__wall_gap(wl, sys->body[wl->a].q, w->x1[0]);
+        if (edmi__pot_parts(&wl->pot, g1, &pp, 0) != EDMI_OK || !edmi__finite(pp.v[0]) ||
+            !edmi__finite(pp.v[1]))
+            return EDMI_ERR_RANGE; /* a moved wall's energy beyond the range */
+        w->beta = pp.v[1];
+        edmi__scale3(w->beta, wl->n, w->f);
+        s1 += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(w->x1[0]));
+        so += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(w->x1[0])) +
+              edmi__abs(w->v0) + edmi__abs(w->dv0) * (edmi__abs(w->d0) + edmi__abs(wl->c));
+        moved_walls += w->x1[0] != wl->c;
     }
 #endif
     res->work_ext = EDMI__ZERO;
@@ -4647,10 +4685,10 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
     res->work_anchor = EDMI__ZERO;
     edmi__set_scale(&bal, xh, so);
     bal.scheme_on = 0;
-    if (sys->n_moving > 0) {
+    if (sys->n_moving > 0 || moved_walls > 0) {
         st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
         if (st != EDMI_OK)
-            return EDMI_ERR_RANGE; /* the moved anchors' energy beyond the range */
+            return EDMI_ERR_RANGE; /* the moved anchors' (walls') energy beyond the range */
         /* dv + |dv.lo| + err_v >= the exact change, its two sums rounded up: each errs by
          * at most eps/2 of its terms (not of the sum, which can cancel), so 4 eps of them
          * covers both, the division by scale^2 and a subnormal quotient (REAL_MIN) */
@@ -4870,6 +4908,10 @@ static void edmi__commit(edmi_system *sys, const edmi_workspace *work, edmi_real
     for (i = 0; i < sys->n_moving; i++)
         edmi__copy3(sys->anchor_next[sys->moving[i]], sys->link[sys->moving[i]].anchor);
     sys->n_moving = 0;
+#if EDMI_MAX_WALLS > 0
+    for (i = 0; i < sys->n_walls; i++) /* a moved wall rests where it got to */
+        sys->wall[i].c = sys->wall_next[i];
+#endif
     sys->tank = tank;
 }
 
@@ -4948,6 +4990,12 @@ static void edmi__restore(edmi_system *sys, const edmi_workspace *work, edmi_rea
         edmi__copy3(work->lw[j].xs, sys->link[j].anchor);
         edmi__copy3(work->lw[j].xt, sys->anchor_next[j]);
     }
+#if EDMI_MAX_WALLS > 0
+    for (i = 0; i < sys->n_walls; i++) {
+        sys->wall[i].c = work->ww[i].xs[0];
+        sys->wall_next[i] = work->ww[i].xt[0];
+    }
+#endif
 }
 
 /* A moving anchor where the substep that starts at pos (of 2^k units of dt) starts or ends:
@@ -5001,9 +5049,12 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         for (i = 0; i < 3; i++)
             work->lw[j].fsum[i] = EDMI__ZERO;
 #if EDMI_MAX_WALLS > 0
-    for (j = 0; j < EDMI__N_WALLS(sys); j++)
-        for (i = 0; i < 3; i++)
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) /* and a wall's offsets, as an anchor's x */
+        for (i = 0; i < 3; i++) {
             work->ww[j].fsum[i] = EDMI__ZERO;
+            work->ww[j].xs[i] = i == 0 ? sys->wall[j].c : EDMI__ZERO;
+            work->ww[j].xt[i] = i == 0 ? sys->wall_next[j] : EDMI__ZERO;
+        }
 #endif
     for (i = 0; i < n_moving; i++) {
         j = sys->moving[i];
@@ -5023,6 +5074,15 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
             edmi__anchor_at(&work->lw[j], pos, k, sys->link[j].anchor);
             edmi__anchor_at(&work->lw[j], pos + units, k, sys->anchor_next[j]);
         }
+#if EDMI_MAX_WALLS > 0
+        for (j = 0; j < sys->n_walls; j++) {
+            edmi_real x[3];
+            edmi__anchor_at(&work->ww[j], pos, k, x);
+            sys->wall[j].c = x[0];
+            edmi__anchor_at(&work->ww[j], pos + units, k, x);
+            sys->wall_next[j] = x[0];
+        }
+#endif
         st = edmi__prepare_links(sys, work);
         if (st != EDMI_OK) { /* a substep's start the potentials refuse: no retry */
             edmi__restore(sys, work, tank0, n_moving);
@@ -5338,6 +5398,8 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
         edmi_status st = edmi__wall_valid(sys->n_bodies, wl->a, wl->n, wl->c, &wl->pot);
         if (st != EDMI_OK)
             return st;
+        if (!edmi__finite(sys->wall_next[i]))
+            return EDMI_ERR_NONFINITE;
     }
 #endif
     if ((!EDMI_WITH_PORTS && sys->n_forced != 0) || (!EDMI_WITH_FIELD && sys->has_field))
@@ -5647,12 +5709,32 @@ edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_re
     if (sys->n_walls >= EDMI_MAX_WALLS)
         return EDMI_ERR_CAPACITY;
     edmi__write_wall(&sys->wall[sys->n_walls], a, n, c, pot);
+    sys->wall_next[sys->n_walls] = c;
     if (index)
         *index = sys->n_walls;
     sys->n_walls++;
     return EDMI_OK;
 #else
     (void)a, (void)c, (void)index;
+    return EDMI_ERR_CAPACITY; /* walls compiled out */
+#endif
+}
+
+edmi_status edmi_move_wall(edmi_system *sys, int w, edmi_real c_next)
+{
+    if (!sys)
+        return EDMI_ERR_NULL;
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CAPACITY;
+#if EDMI_MAX_WALLS > 0
+    if (w < 0 || w >= sys->n_walls)
+        return EDMI_ERR_INDEX;
+    if (!edmi__finite(c_next))
+        return EDMI_ERR_NONFINITE;
+    sys->wall_next[w] = c_next;
+    return EDMI_OK;
+#else
+    (void)w, (void)c_next;
     return EDMI_ERR_CAPACITY; /* walls compiled out */
 #endif
 }
@@ -5919,7 +6001,7 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
     for (a = 0; a < EDMI__N_WALLS(sys); a++) {
         const edmi_wall *wl = &sys->wall[a];
         edmi_pot_parts pp;
-        st = edmi__pot_parts(&wl->pot, edmi__wall_gap(wl, sys->body[wl->a].q), &pp, 0);
+        st = edmi__pot_parts(&wl->pot, edmi__wall_gap(wl, sys->body[wl->a].q, wl->c), &pp, 0);
         if (st != EDMI_OK)
             return st;
         iv.v += pp.v[0];

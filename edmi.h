@@ -511,6 +511,8 @@ typedef struct edmi_system {
 #if EDMI_MAX_WALLS > 0
     int n_walls;
     edmi_wall wall[EDMI_MAX_WALLS];
+    edmi_real wall_next[EDMI_MAX_WALLS]; /*!< each wall's offset c at the end of the next step
+                                              (edmi_move_wall(); c itself when it rests) [L] */
 #endif
     int n_forced;                        /*!< bodies with an external force port set */
     int forced[EDMI_MAX_BODIES];         /*!< their indices */
@@ -764,6 +766,14 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
  *          EDMI_ERR_DISABLED (its kind compiled out), EDMI_ERR_CAPACITY */
 edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_real c,
                           const edmi_potential *pot, int *index);
+
+/** \brief Move wall w along its normal: its offset goes from c to c_next over the next step,
+ *  linearly in time (as edmi_move_anchor() moves an anchor). The work this motion does on the
+ *  system, -Lambda (c_next - c) with Lambda the wall's discrete force V'(g), is added to
+ *  edmi_step_result.work_anchor; after the step the wall rests at c_next until moved again.
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such wall), EDMI_ERR_NONFINITE,
+ *          EDMI_ERR_CAPACITY (walls compiled out) */
+edmi_status edmi_move_wall(edmi_system *sys, int w, edmi_real c_next);
 
 /** \brief Couple the masses of bodies a and b: set the off-diagonal entry m_ab = m_ba of the
  *  mass matrix M (kinetic energy K = 1/2 p . M^-1 p; the diagonal entries are the bodies'

@@ -798,10 +798,15 @@ static void fz_op_build(fz_in *in, int *n_user)
         st = edmi_set_params(&fz_sys, &prm);
         break;
     case 8:
-        if (fz_u8(in) & 1u) { /* a wall: normal v, offset, any potential (most refused) */
+        which = fz_u8(in);
+        if (which & 1u) { /* a wall: normal v, offset, any potential (most refused) */
             edmi_real c = fz_real(in);
             pot = fz_potential(in, n_user);
             st = edmi_add_wall(&fz_sys, fz_index(in, fz_sys.n_bodies), v, c, &pot, &idx);
+            break;
+        }
+        if (which & 2u) { /* a wall moved (any index, any offset) */
+            st = edmi_move_wall(&fz_sys, fz_index(in, EDMI_MAX_WALLS), v[0]);
             break;
         }
         st = edmi_set_mass_coupling(&fz_sys, fz_index(in, fz_sys.n_bodies),
@@ -944,6 +949,7 @@ static void fz_op_null(void)
     FZ_NULL(edmi_add_wall(0, 0, v, 0, &pot, 0));
     FZ_NULL(edmi_add_wall(&fz_sys, 0, 0, 0, &pot, 0));
     FZ_NULL(edmi_add_wall(&fz_sys, 0, v, 0, 0, 0));
+    FZ_NULL(edmi_move_wall(0, 0, 0));
     FZ_NULL(edmi_set_mass_coupling(0, 0, 1, 1));
     FZ_NULL(edmi_move_anchor(&fz_sys, 0, 0));
     FZ_NULL(edmi_set_force(&fz_sys, 0, 0));
