@@ -83,7 +83,8 @@
 
 /** Walls per system: a body against a plane, V(g) of its gap g = n.q - c (edmi_add_wall()).
  *  Costs an edmi_wall and 3 reals (its force) in edmi_system and an edmi_link_ws in
- *  edmi_workspace per wall (292 B in float on a 32-bit core), and an int. 0 (the default)
+ *  edmi_workspace per wall, and the wall's next offset (296 B in float on a 32-bit core), and an
+ *  int. 0 (the default)
  *  compiles walls out: the step holds no wall code, the structs no wall members
  *  (sys->n_walls, wall[], wall_force[] exist only with walls), and edmi_add_wall() returns
  *  EDMI_ERR_CAPACITY. */

@@ -28,7 +28,8 @@
  *     s = up(s, RP) + L*edmi_link + 4                            link[L], has_field
  *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
  *     s = up(up(s, R) + D*edmi_damper + 4, RP)                   damper[D], n_walls
- *         + W*edmi_wall + 4 + 4N                                 wall[W], n_forced, forced[N]
+ *         + W*(edmi_wall + R) + 4 + 4N                           wall[W], wall_next[W],
+ *                                                                n_forced, forced[N]
  *                                                                (W = max(EDMI_MAX_WALLS, 1))
  *     s = up(s, R) + 3R*N + 4 + 4L                               force[N][3], n_moving, moving[L]
  *     s = up(s, R) + 6R*L + N*G*R + R + 3R*W                     anchor_next[L][3], mass_off[N][G]
@@ -69,7 +70,7 @@
 #define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
 #define TGT_S4                                                                              \
     (TGT_W > 0u ? TGT_UP(TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u, TGT_RP) +             \
-                      TGT_W * TGT_WALL + 4u + 4u * TGT_N                                      \
+                      TGT_W * (TGT_WALL + TGT_R) + 4u + 4u * TGT_N                            \
                 : TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
 #define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
 #define TGT_G ((unsigned long)EDMI_MAX_MASS_GAP)
@@ -91,14 +92,14 @@
  * K + R M + b N + l L + d D + w W + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
  *   (W = EDMI_MAX_WALLS; with W > 0, K is 4 more in float and 8 in double: n_walls)
  *   float:  K = 128 with 4-byte pointers and 1-byte enums (arm-none-eabi), 136 with 4-byte
- *           enums, 148 with 8-byte pointers; b = 196, d = 44; l = 312 and w = 292 with 4-byte
- *           pointers, 332 and 312 with 8-byte ones; pad = 0 with 4-byte pointers, else 4 when
- *           N is odd (alignment of link[] after body[N]) + 4 when L + N G + W is odd (W = 0)
- *           or even (W > 0) (the system's tail, rounded up to the pointers' 8) + 4 when
- *           N + D + W is even (the walls after the dampers, and the workspace's pointer to
- *           whose factors it keeps)
+ *           enums, 148 with 8-byte pointers; b = 196, d = 44; l = 312 and w = 296 with 4-byte
+ *           pointers, 332 and 316 with 8-byte ones; pad = 0 with 4-byte pointers, else 4 when
+ *           N is odd (alignment of link[] after body[N]) + 4 when L + N G is odd (W = 0) or
+ *           even (W > 0) (the system's tail, rounded up to the pointers' 8) + 4 when N + D + W
+ *           is even (the walls after the dampers, and the workspace's pointer to whose
+ *           factors it keeps)
  *   double: K = 196 with 1-byte enums, 204 with 4-byte ones; b = 364, d = 88;
- *           l = 592 and w = 568 with 4-byte pointers, 600 and 576 with 8-byte ones; pad = 4
+ *           l = 592 and w = 576 with 4-byte pointers, 600 and 584 with 8-byte ones; pad = 4
  *           when N is even (the int array forced[N] before force[N][3]) + with 8-byte
  *           pointers 8 when L is even (the int arrays moving[L] before anchor_next[L][3]) */
 #define TGT_CLOSED_K                                                                        \
@@ -107,7 +108,7 @@
 #define TGT_CLOSED_B (TGT_R == 4u ? 196u : 364u)
 #define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 312u : 592u) : (TGT_R == 4u ? 332u : 600u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
-#define TGT_CLOSED_W (TGT_R == 4u ? (TGT_P == 4u ? 292u : 312u) : (TGT_P == 4u ? 568u : 576u))
+#define TGT_CLOSED_W (TGT_R == 4u ? (TGT_P == 4u ? 296u : 316u) : (TGT_P == 4u ? 576u : 584u))
 #define TGT_CLOSED_PAD                                                                      \
     (TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) +                                             \
                        (TGT_P == 8u && TGT_L % 2u == 0u ? 8u : 0u)                             \
@@ -115,7 +116,7 @@
          ? (TGT_N % 2u == 1u ? 4u : 0u) + ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) +    \
                ((TGT_N + TGT_D) % 2u == 0u ? 4u : 0u)                                         \
      : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) +                                         \
-                         ((TGT_L + TGT_N * TGT_G + TGT_W) % 2u == 0u ? 4u : 0u) +             \
+                         ((TGT_L + TGT_N * TGT_G) % 2u == 0u ? 4u : 0u) +                     \
                          ((TGT_N + TGT_D + TGT_W) % 2u == 0u ? 4u : 0u)                       \
                    : 0u)
 #define TGT_CLOSED                                                                          \

@@ -96,9 +96,10 @@ TGT_CAP_TARGETS := m4f-float m7-double
 tgt_capdefs = -DEDMI_MAX_BODIES=$(word 1,$(subst -, ,$(1))) \
               -DEDMI_MAX_LINKS=$(word 2,$(subst -, ,$(1))) \
               -DEDMI_MAX_DAMPERS=$(word 3,$(subst -, ,$(1))) \
-              $(if $(filter m%,$(word 4,$(subst -, ,$(1)))),\
-                  -DEDMI_MAX_MASS_GAP=$(patsubst m%,%,$(word 4,$(subst -, ,$(1)))),\
-                  $(if $(word 4,$(subst -, ,$(1))),-DEDMI_MAX_MATRIX=$(word 4,$(subst -, ,$(1)))))
+              $(foreach x,$(wordlist 4,5,$(subst -, ,$(1))),\
+                  $(if $(filter m%,$(x)),-DEDMI_MAX_MASS_GAP=$(patsubst m%,%,$(x)),\
+                  $(if $(filter w%,$(x)),-DEDMI_MAX_WALLS=$(patsubst w%,%,$(x)),\
+                  -DEDMI_MAX_MATRIX=$(x))))
 
 .PHONY: tgt-cross test-target bench-target worst-target haptic-target check-ram check-sqrt check-port study-target \
         smoke-target
@@ -378,8 +379,8 @@ smoke-target: $(foreach s,$(TGT_SMOKE),$(TGT)/an386/smoke-$(s).elf)
 # ---- host checks of port/ ----------------------------------------------------------------------
 # RAM formula: every capacity setting in both precisions on the host (LP64), and compiled
 # (the formula is a compile-time assertion) for Arm EABI and RISC-V ilp32; 64-63-16-3072 is a
-# 64-body chain's band store (EDMI_MAX_MATRIX = 48 N).
-TGT_RAM_CAPS := $(TGT_CAPS) 3-5-2 7-2-1 64-63-16-3072
+# 64-body chain's band store (EDMI_MAX_MATRIX = 48 N); w3 etc.: EDMI_MAX_WALLS.
+TGT_RAM_CAPS := $(TGT_CAPS) 3-5-2 7-2-1 64-63-16-3072 3-5-2-w3 6-7-0-m1-w2 4-8-2-w6
 TGT_RAM_HOST := $(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),$(TGT)/ramcheck/$(r)-$(c)))
 TGT_RAM_CROSS := $(foreach a,m4f rv32imac,$(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),\
                      $(TGT)/ramcheck/$(a)-$(r)-$(c).o)))
