@@ -99,11 +99,12 @@ echo "energy balance, hanging_chain.scene (PM, 5000 steps, field + 6 dampers + f
 echo "  ${bal:-FAILED}"
 [ -n "$bal" ] || failed=1
 # Contact (one-sided potentials and walls, docs/contact.md): the cradle (ropes that only pull,
-# balls that only push) and the bouncing ball with each scheme, the 16 balls in a box with
-# PM; contacts begin and end inside steps. Exit status non-zero if a run fails, its energy
+# balls that only push) and the bouncing ball with each scheme, a chain falling onto a table
+# and the 16 balls in a box with PM; contacts begin and end inside steps. Exit status non-zero if a run fails, its energy
 # balance misses, or a guarded scheme's H rose beyond the work and the tank.
 echo "contact (docs/contact.md): (H - H0)/H0 at the end; steps where H rose beyond the work and the tank (__float128; MP and LG have no guard); guard moves; energy balance"
-for run in "newtons_cradle mp lg ge pm pt" "bouncing_ball mp lg ge pm pt" "balls_in_box pm"; do
+for run in "newtons_cradle mp lg ge pm pt" "bouncing_ball mp lg ge pm pt" "chain_on_table pm" \
+           "balls_in_box pm"; do
     set -- $run
     scene=$1
     shift
