@@ -4514,6 +4514,25 @@ static edmi_status edmi__end_valid_known(const edmi_link *lk, const edmi_link_ws
 
 /* Every link's end valid at the stored positions (edmi__end_valid), after the guard moved
  * them: a position rounded by a unit can cross a user potential's domain edge. */
+#if EDMI_MAX_WALLS > 0
+/* A wall's end state is one the next step starts from (edmi__prepare_links): the gap, V and
+ * V' finite there. Only the force's Lambda enters Newton's equations, so a body can end far
+ * through a wall, where V overflows (measured by the fuzzer: a field of 1e28 in float):
+ * EDMI_ERR_RANGE, a failure of the step (substeps, the fallback), not a start the next call
+ * would refuse. */
+static edmi_status edmi__wall_end_valid(const edmi_system *sys, const edmi_workspace *work,
+                                        int j)
+{
+    const edmi_wall *wl = &sys->wall[j];
+    edmi_real g1 = edmi__wall_gap(wl, work->q1[wl->a], work->ww[j].x1[0]);
+    edmi_pot_parts pp;
+    if (!edmi__finite(g1) || edmi__pot_parts(&wl->pot, g1, &pp, 0) != EDMI_OK ||
+        !edmi__finite(pp.v[0]) || !edmi__finite(pp.v[1]))
+        return EDMI_ERR_RANGE;
+    return EDMI_OK;
+}
+
+#endif
 static edmi_status edmi__ends_valid(const edmi_system *sys, const edmi_workspace *work)
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
@@ -4527,6 +4546,11 @@ static edmi_status edmi__ends_valid(const edmi_system *sys, const edmi_workspace
         if (st != EDMI_OK)
             return st;
     }
+#if EDMI_MAX_WALLS > 0
+    for (j = 0; j < sys->n_walls; j++)
+        if (edmi__wall_end_valid(sys, work, j) != EDMI_OK)
+            return EDMI_ERR_RANGE;
+#endif
     return EDMI_OK;
 }
 
@@ -4573,7 +4597,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* its force, and a moving wall's work */
         edmi_real c0 = sys->wall[j].c, c1 = work->ww[j].x1[0];
         edmi__scale3(work->ww[j].beta, sys->wall[j].n, work->ww[j].f);
-        if (!edmi__finite3(work->ww[j].f))
+        if (!edmi__finite3(work->ww[j].f) || edmi__wall_end_valid(sys, work, j) != EDMI_OK)
             return EDMI_ERR_RANGE;
         if (c1 != c0) /* -Lambda (c_n+1 - c_n), the difference and product exact */
             wa = edmi__dw_sub(wa, edmi__dw_mul_r(edmi__two_sum(c1, -c0), work->ww[j].beta));
