@@ -4256,17 +4256,58 @@ static void edmi__pick_qmoves(const edmi_system *sys, const edmi_workspace *work
     }
 }
 
-/* work_ext for the current work->q1, correctly rounded; updates bal->w. */
+/* A reported work, accumulated: its double-word sum and a bound on that sum's error. */
+typedef struct edmi__work {
+    edmi__dw w;
+    edmi_real err;
+} edmi__work;
+
+/* acc += t, whose error is at most err. */
+static void edmi__work_add_dw(edmi__work *acc, edmi__dw t, edmi_real err)
+{
+    acc->w = edmi__dw_add(acc->w, t);
+    acc->err += err;
+}
+
+/* acc += sign f . (a - b): the products of exactly formed differences, summed in double-word
+ * (JMP's accurate sum: 3 u^2 of the result each), err grown by EDMI__DW_ERR times the terms'
+ * magnitude and EDMI__DW_TINY for the products' underflow. */
+static void edmi__work_add(edmi__work *acc, const edmi_real f[3], const edmi_real a[3],
+                           const edmi_real b[3], int sign)
+{
+    edmi_real m = EDMI__ZERO, fm = EDMI__ZERO;
+    int i;
+    for (i = 0; i < 3; i++) {
+        m += edmi__abs(f[i]) * edmi__abs(a[i] - b[i]);
+        fm += edmi__abs(f[i]);
+    }
+    edmi__work_add_dw(acc, sign > 0 ? edmi__dw_work(f, a, b, EDMI__ONE)
+                                    : edmi__dw_neg(edmi__dw_work(f, a, b, EDMI__ONE)),
+                      EDMI_R(2.0) * EDMI__DW_ERR * m + EDMI__DW_TINY * (EDMI__ONE + fm));
+}
+
+/* The work as reported: rounded down, a real no larger than any value within err of the sum
+ * (so no larger than the exact work on the stored numbers; issue 32, item 5). The subtraction
+ * errs by ~u^2 of the sum, far inside err (of its terms' magnitudes), taken twice. */
+static edmi_real edmi__work_down(const edmi__work *acc)
+{
+    edmi__dw x = edmi__dw_add_r(acc->w, -EDMI_R(2.0) * acc->err);
+    return x.lo < EDMI__ZERO ? x.hi - edmi__max(edmi__ulp(x.hi), EDMI__REAL_MIN * EDMI_EPS) : x.hi;
+}
+
+/* work_ext for the current work->q1, rounded down (edmi__step_work); updates bal->w. */
 static void edmi__port_work(const edmi_system *sys, const edmi_workspace *work,
                             edmi_step_result *res, edmi__balance *bal)
 {
-    edmi__dw wx = edmi__dw_of(EDMI__ZERO);
+    edmi__work wx;
     int a;
+    wx.w = edmi__dw_of(EDMI__ZERO);
+    wx.err = EDMI__ZERO;
     for (a = 0; a < EDMI__N_FORCED(sys); a++) {
         int b = sys->forced[a];
-        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], work->q1[b], sys->body[b].q, EDMI__ONE));
+        edmi__work_add(&wx, sys->force[b], work->q1[b], sys->body[b].q, 1);
     }
-    res->work_ext = edmi__dw_real(wx);
+    res->work_ext = edmi__work_down(&wx);
     bal->w = edmi__dw_up2(bal, edmi__two_sum(res->work_ext, res->work_anchor));
 }
 
@@ -4554,18 +4595,22 @@ static edmi_status edmi__ends_valid(const edmi_system *sys, const edmi_workspace
     return EDMI_OK;
 }
 
-/* What the converged step did to energy: the ports' and anchors' work (correctly rounded),
- * each link's mean force on its second end (work->lw[j].f: algorithmic force plus dampers),
- * the dampers' dissipation, and bal->w. */
+/* What the converged step did to energy: the ports' and anchors' (and walls') work, each
+ * rounded down from its exact value on the stored numbers (F . (q_n+1 - q_n), -f . (x_n+1 -
+ * x_n) with f the stored link force, -Lambda (c_n+1 - c_n)), each link's mean force on its
+ * second end (work->lw[j].f: algorithmic force plus dampers), the dampers' dissipation, and
+ * bal->w, the reported works' exact sum, which the guard certifies against. */
 static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                    edmi_step_result *res, edmi__balance *bal)
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
-    edmi__dw wx = edmi__dw_of(EDMI__ZERO), wa = edmi__dw_of(EDMI__ZERO);
+    edmi__work wx, wa;
     int a, i, j;
+    wx.w = wa.w = edmi__dw_of(EDMI__ZERO);
+    wx.err = wa.err = EDMI__ZERO;
     for (a = 0; a < EDMI__N_FORCED(sys); a++) {
         int b = sys->forced[a];
-        wx = edmi__dw_add(wx, edmi__dw_work(sys->force[b], q1[b], sys->body[b].q, EDMI__ONE));
+        edmi__work_add(&wx, sys->force[b], q1[b], sys->body[b].q, 1);
     }
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
@@ -4599,16 +4644,21 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
         edmi__scale3(work->ww[j].beta, sys->wall[j].n, work->ww[j].f);
         if (!edmi__finite3(work->ww[j].f) || edmi__wall_end_valid(sys, work, j) != EDMI_OK)
             return EDMI_ERR_RANGE;
-        if (c1 != c0) /* -Lambda (c_n+1 - c_n), the difference and product exact */
-            wa = edmi__dw_sub(wa, edmi__dw_mul_r(edmi__two_sum(c1, -c0), work->ww[j].beta));
+        if (c1 != c0) /* -Lambda (c_n+1 - c_n), the difference exact */
+            edmi__work_add_dw(&wa,
+                              edmi__dw_neg(edmi__dw_mul_r(edmi__two_sum(c1, -c0),
+                                                          work->ww[j].beta)),
+                              EDMI_R(2.0) * EDMI__DW_ERR * edmi__abs(work->ww[j].beta) *
+                                      edmi__abs(c1 - c0) +
+                                  EDMI__DW_TINY * (EDMI__ONE + edmi__abs(work->ww[j].beta)));
     }
 #endif
     for (i = 0; i < sys->n_moving; i++) {
         j = sys->moving[i];
-        wa = edmi__dw_sub(wa, edmi__dw_work(work->lw[j].f, work->lw[j].x1, sys->link[j].anchor, EDMI__ONE));
+        edmi__work_add(&wa, work->lw[j].f, work->lw[j].x1, sys->link[j].anchor, -1);
     }
-    res->work_ext = edmi__dw_real(wx);
-    res->work_anchor = edmi__dw_real(wa);
+    res->work_ext = edmi__work_down(&wx);
+    res->work_anchor = edmi__work_down(&wa);
     bal->w = edmi__two_sum(res->work_ext, res->work_anchor);
     for (j = 0; j < sys->n_links; j++)
         if (!edmi__finite3(work->lw[j].f))

@@ -668,10 +668,16 @@ typedef struct edmi_step_result {
      * exact up to the Newton residual. With the guard on, H_n+1 - H_n <= work_ext +
      * work_anchor + T_n - T_n+1 holds exactly for the stored values and the tank
      * (docs/energy-safe.md). */
-    edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n), correctly
-                                 rounded from the stored positions */
-    edmi_real work_anchor;  /*!< work the moving anchors did on the system,
-                                 -sum link_force . (x_n+1 - x_n), correctly rounded */
+    edmi_real work_ext;     /*!< work of the force ports, sum F . (q_n+1 - q_n) of the stored
+                                 forces and positions, rounded down: never above the exact
+                                 value, so that H_n - H_0 <= the exact works' sum + T_0 */
+    edmi_real work_anchor;  /*!< work the moving anchors (and walls) did on the system,
+                                 -sum link_force . (x_n+1 - x_n) of the stored force and
+                                 anchors (a wall's -Lambda (c_n+1 - c_n)), rounded down. A
+                                 step taken as substeps reports each work as the substeps'
+                                 (each rounded down) summed and rounded up, at most a unit
+                                 above their sum; a fallback state reports work_anchor as the
+                                 moved anchors' V change rounded up */
     edmi_real diss_damping; /*!< energy the dampers removed (>= 0) */
     edmi_real diss_scheme;  /*!< energy the scheme removed: sum over links of (work of the
                                  algorithmic force) - (V(d_n+1) - V(d_n)); >= 0 for GE/PM/PT,

@@ -1251,6 +1251,37 @@ static void tp_j(const edmi_system *s, long double j[3])
     }
 }
 
+/* Whether the reported works of the step from s0 to s1 are at most the exact ones on the
+ * stored numbers: work_ext <= sum F . (q1 - q0) (the ports' forces of s0) and work_anchor <=
+ * -sum f . (x1 - x0) over the moving anchors of s0 (f the stored link force of s1), each
+ * evaluated in tp_q (a product of two stored reals exact) within 8 units of its magnitude. */
+static int tp_works_below(const edmi_system *s0, const edmi_system *s1,
+                          const edmi_step_result *res)
+{
+    tp_q wx = (tp_q)0.0, wa = (tp_q)0.0, mx = (tp_q)0.0, ma = (tp_q)0.0;
+    int k, i;
+    for (k = 0; k < s0->n_forced; k++) {
+        int b = s0->forced[k];
+        for (i = 0; i < 3; i++) {
+            tp_q f = (tp_q)s0->force[b][i], dq = (tp_q)s1->body[b].q[i] - (tp_q)s0->body[b].q[i];
+            wx += f * dq;
+            mx += tp_absq(f) * (tp_absq((tp_q)s1->body[b].q[i]) + tp_absq((tp_q)s0->body[b].q[i]));
+        }
+    }
+    for (k = 0; k < s0->n_moving; k++) {
+        int j = s0->moving[k];
+        for (i = 0; i < 3; i++) {
+            tp_q f = (tp_q)s1->link_force[j][i];
+            tp_q dx = (tp_q)s1->link[j].anchor[i] - (tp_q)s0->link[j].anchor[i];
+            wa -= f * dx;
+            ma += tp_absq(f) * (tp_absq((tp_q)s1->link[j].anchor[i]) +
+                                tp_absq((tp_q)s0->link[j].anchor[i]));
+        }
+    }
+    return (tp_q)res->work_ext <= wx + (tp_q)8.0 * TP_Q_EPS * mx &&
+           (tp_q)res->work_anchor <= wa + (tp_q)8.0 * TP_Q_EPS * ma;
+}
+
 void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
 {
     edmi_real dt;
@@ -1263,7 +1294,7 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
     tp_q h0, scale, worst = (tp_q)-1.0, h_last, max_cap = (tp_q)0.0;
     tp_win win;
     st->steps = st->violations = st->rises = st->uncertain = 0;
-    st->fallbacks = st->guarded = st->iterations = 0;
+    st->fallbacks = st->guarded = st->iterations = st->works_above = 0;
     st->window_violations = st->tank_violations = st->window_beyond_cap = 0;
     st->worst = -1.0L;
     st->sum_w = st->max_dj = st->max_window = st->max_cap = st->window_err = 0.0L;
@@ -1289,6 +1320,8 @@ void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
         st->iterations += res.iterations;
         st->fallbacks += res.stop == EDMI_STOP_FALLBACK;
         st->guarded += res.guard_action != 0;
+        if (res.substeps == 1 && res.stop != EDMI_STOP_FALLBACK)
+            st->works_above += !tp_works_below(&tp_old, &tp_sys, &res);
         if (!tp_delta_q(&tp_old, &tp_sys, &res, &d)) {
             st->violations++; /* a state the check cannot evaluate is not accepted */
             continue;

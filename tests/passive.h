@@ -137,6 +137,9 @@ typedef struct tp_stats {
     long fallbacks;          /* steps that took the fallback state */
     long guarded;            /* steps the guard changed */
     long iterations;         /* Newton corrections summed */
+    long works_above;        /* steps (not split, not fallen back) whose reported work_ext or
+                                work_anchor exceeded the exact work on the stored forces and
+                                positions (tp_q): both are rounded down (edmi.h) */
     /* the rest accumulated in tp_q, reported in long double */
     long double worst;       /* max over steps of (dh - w) / H scale: the passivity margin */
     long double h0, h_last;  /* H at start and end */

@@ -154,6 +154,7 @@ int main(int argc, char **argv)
             CHECK(st.violations == 0);
             CHECK(st.window_violations == 0);
             CHECK(st.tank_violations == 0);
+            CHECK(st.works_above == 0); /* the reported works are lower bounds */
             /* no work done: H rises only within the tank (single steps may rise, as in
              * tests/test_guard.c (1)), never beyond the largest capacity over any window */
             if (s == TP_SPRING || s == TP_STIFF || s == TP_COLLIDE)

@@ -96,6 +96,7 @@ static void gd_scenes(void)
                 CHECK(st.violations == 0);
                 CHECK(st.window_violations == 0);
                 CHECK(st.tank_violations == 0);
+                CHECK(st.works_above == 0); /* the reported works are lower bounds */
                 if (no_work)
                     CHECK(!st.window_beyond_cap);
                 if (no_work && cap0)
