@@ -4291,7 +4291,10 @@ static void edmi__work_add(edmi__work *acc, const edmi_real f[3], const edmi_rea
  * errs by ~u^2 of the sum, far inside err (of its terms' magnitudes), taken twice. */
 static edmi_real edmi__work_down(const edmi__work *acc)
 {
-    edmi__dw x = edmi__dw_add_r(acc->w, -EDMI_R(2.0) * acc->err);
+    edmi__dw x;
+    if (acc->err == EDMI__ZERO) /* no term: no port, no moving anchor or wall */
+        return acc->w.hi;
+    x = edmi__dw_add_r(acc->w, -EDMI_R(2.0) * acc->err);
     return x.lo < EDMI__ZERO ? x.hi - edmi__max(edmi__ulp(x.hi), EDMI__REAL_MIN * EDMI_EPS) : x.hi;
 }
 
