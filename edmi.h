@@ -859,7 +859,8 @@ edmi_potential edmi_pot_tether(edmi_real k, edmi_real len);
  *          length 0 or outside a user potential's domain, where the next step could not
  *          start), EDMI_ERR_PASSIVITY, EDMI_ERR_RANGE (a result beyond the range); with it,
  *          EDMI_ERR_DIVERGED or EDMI_ERR_RANGE only where a moved anchor ends on its body,
- *          outside its potential's domain or beyond the range. EDMI_ERR_DT also when t + dt
+ *          outside its potential's domain or beyond the range, or a moved wall's energy at
+ *          the kept positions is beyond the range. EDMI_ERR_DT also when t + dt
  *          overflows. */
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res);

@@ -579,6 +579,20 @@ static void fz_build(fz_in *in, edmi_system *sys, int *n_user)
     }
 }
 
+/* Whether a wall of s moves in its next step (edmi_move_wall). */
+static int fz_walls_moved(const edmi_system *s)
+{
+#if EDMI_MAX_WALLS > 0
+    int j;
+    for (j = 0; j < s->n_walls && j < EDMI_MAX_WALLS; j++)
+        if (s->wall_next[j] != s->wall[j].c)
+            return 1;
+#else
+    (void)s;
+#endif
+    return 0;
+}
+
 /* Every link's potential evaluates at its start distance (edmi_pot_eval: every derivative
  * finite, a user potential accepting it): else the start state is input edmi_step refuses. */
 static int fz_start_evaluable(const edmi_system *s)
@@ -630,10 +644,11 @@ static void fz_op_step(fz_in *in, int *steps)
         (st == EDMI_ERR_SINGULAR || st == EDMI_ERR_NO_CONVERGENCE || st == EDMI_ERR_PASSIVITY ||
          st == EDMI_ERR_DIVERGED || st == EDMI_ERR_RANGE)) {
         /* the fallback's contract: only a start state its potentials refuse (the input) or a
-         * moved anchor with no passive state may fail */
+         * moved anchor or wall with no passive state may fail */
         edmi_invariants inv;
         if (!((st == EDMI_ERR_DIVERGED || st == EDMI_ERR_RANGE) &&
-              (fz_before.n_moving > 0 || edmi_invariants_of(&fz_before, &inv) != EDMI_OK ||
+              (fz_before.n_moving > 0 || fz_walls_moved(&fz_before) ||
+               edmi_invariants_of(&fz_before, &inv) != EDMI_OK ||
                !fz_start_evaluable(&fz_before))))
             fz_fail("fallback set but the step failed", "edmi_step", st);
     }
