@@ -4,7 +4,7 @@
 #> (`bash .ci/run` installs them all).
 #>
 #> -- the two commands --
-#> make run             55 s
+#> make run             65 s
 #>     the main job: the spring's accuracy table, then the paper's three examples with every
 #>     scheme (edmi-sim), a line as each of its 27 runs ends
 #> make test            4 min    needs g++ (clang: one check more)
