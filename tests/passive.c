@@ -1866,6 +1866,20 @@ static void tp_ends(const edmi_system *s0, const edmi_system *s, int j, edmi_rea
     }
 }
 
+/* The largest entry of the tangent of tp_one (one link or wall of a system of n bodies) at
+ * the trial state tp_q1, tp_p1 into *k; 0 if edmi_tangent refuses it. */
+static int tp_kmax(edmi_workspace *work, edmi_real dt, int n, long double *k)
+{
+    int i;
+    if (edmi_tangent(&tp_one, work, dt, (const edmi_real (*)[3])tp_q1,
+                     (const edmi_real (*)[3])tp_p1, tp_kmat) != EDMI_OK)
+        return 0;
+    for (i = 0; i < 9 * n * n; i++)
+        if (tp_absl((long double)tp_kmat[i]) > *k)
+            *k = tp_absl((long double)tp_kmat[i]);
+    return 1;
+}
+
 long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
                       edmi_workspace *work, edmi_status *status, int *body, int *which)
 {
@@ -1925,12 +1939,8 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
                 for (a = 0; a < 3; a++)
                     tp_one.anchor_next[0][a] = s0->anchor_next[j][a];
             }
-        if (edmi_tangent(&tp_one, work, dt, (const edmi_real (*)[3])tp_q1,
-                         (const edmi_real (*)[3])tp_p1, tp_kmat) != EDMI_OK)
+        if (!tp_kmax(work, dt, n, &k))
             continue;
-        for (i = 0; i < 9 * n * n; i++)
-            if (tp_absl((long double)tp_kmat[i]) > k)
-                k = tp_absl((long double)tp_kmat[i]);
         if (lk->pot.kind == EDMI_POT_HARMONIC && lk->pot.b == 0 && /* V = k/2 r^2: its GE */
             ldt * tp_absl((long double)lk->pot.a) > k)              /* split's kink at r = 0 */
             k = ldt * tp_absl((long double)lk->pot.a);
@@ -1955,12 +1965,8 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         tp_one.n_links = 0;
         tp_one.n_dampers = 0;
         tp_one.n_moving = 0;
-        if (edmi_tangent(&tp_one, work, dt, (const edmi_real (*)[3])tp_q1,
-                         (const edmi_real (*)[3])tp_p1, tp_kmat) != EDMI_OK)
+        if (!tp_kmax(work, dt, n, &k))
             continue;
-        for (i = 0; i < 9 * n * n; i++)
-            if (tp_absl((long double)tp_kmat[i]) > k)
-                k = tp_absl((long double)tp_kmat[i]);
         if (wl->pot.kind == EDMI_POT_HARMONIC && ldt * (long double)wl->pot.a > k)
             k = ldt * (long double)wl->pot.a;
         tp_pm[a] += 12.0L * k * (tp_n3l(tp_q1[a]) + tp_absl((long double)wl->c) + tp_qm[a]);
