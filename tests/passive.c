@@ -931,13 +931,14 @@ int tp_delta_h_fast(const edmi_system *s0, const tp_hdw *h0, const edmi_system *
  * fresh H: its rounding is in the deltas' err, accumulated in a_err), the smallest A_m + T_m
  * and A_m so far, and the largest rise of A over its lowest (in units of H's scale). */
 typedef struct tp_win {
-    tp_q h_last, sum_w, a_min, a_low, a_err, max_window;
+    tp_q h_last, sum_w, a_min, a_low, a_err, max_window, a_max;
 } tp_win;
 
 static void tp_win_start(tp_win *w, tp_q h, tp_q tank)
 {
     w->h_last = h;
     w->sum_w = w->a_err = w->max_window = (tp_q)0.0;
+    w->a_max = h;
     w->a_min = h + tank;
     w->a_low = h;
 }
@@ -953,6 +954,8 @@ static int tp_win_add(tp_win *w, const tp_qdelta *d, const edmi_step_result *res
     w->a_err += d->err + TP_Q_EPS * (tp_absq(w->sum_w) + tp_absq(a_n));
     if ((a_n - w->a_low) / scale > w->max_window)
         w->max_window = (a_n - w->a_low) / scale;
+    if (a_n > w->a_max)
+        w->a_max = a_n;
     ok = !(a_n - w->a_min > w->a_err);
     w->h_last += d->dh;
     if (a_n + tank < w->a_min)
@@ -978,6 +981,8 @@ int tp_window_step(const edmi_system *s0, const edmi_system *s1, const edmi_step
     }
     return tp_win_add(&tp_window, &d, res, (tp_q)s1->tank, (tp_q)1.0);
 }
+
+long double tp_window_rise(void) { return (long double)tp_window.a_max; }
 
 /* H of a stored state in tp_q; 0 if a coupled M is not provably definite (not evaluated). */
 static int tp_hq(const edmi_system *s, tp_q *out)

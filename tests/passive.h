@@ -74,6 +74,9 @@ int tp_delta_h_fast(const edmi_system *s0, const tp_hdw *h0, const edmi_system *
  * One run at a time. */
 void tp_window_start(const edmi_system *s);
 int tp_window_step(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res);
+/* The largest H_n - H_0 - (the works from 0 to n) over the run since tp_window_start, evaluated
+ * in tp_q (0 at the start; at most T_0 plus the check's rounding while no window is broken). */
+long double tp_window_rise(void);
 
 /* H of a stored state, evaluated in tp_q and rounded to long double (for drifts relative to
  * H0); LDBL_MAX for a coupled M that is not positive definite to long double's resolution
