@@ -146,8 +146,9 @@ TEST_SRC := $(sort tests/harness.c tests/host_io.c $(wildcard tests/test_*.c tes
 TEST_HDR := $(wildcard tests/*.h) examples/haptic_hand.h
 CONFIGS := double float double-san float-san
 real_of = $(firstword $(subst -, ,$(1)))
-# The suites run with walls compiled in (EDMI_MAX_WALLS, 0 by default), as edmi-sim and the fuzzer.
-TEST_CAP := -DEDMI_MAX_WALLS=6
+# The suites run with walls compiled in (EDMI_MAX_WALLS, 0 by default), as edmi-sim and the
+# fuzzer, and with room for 16 balls in a box (tests/test_contact.c: 64 walls, 120 contacts).
+TEST_CAP := -DEDMI_MAX_WALLS=64 -DEDMI_MAX_LINKS=128
 flags_of = $(CFLAGS) $(TEST_CAP) $(if $(findstring -san,$(1)),$(SAN))
 
 # $(1) = configuration: objects and the binary $(BUILD)/test-$(1)/edmi_tests

@@ -679,6 +679,86 @@ static void tc_check_rest(void)
     }
 }
 
+/* Sixteen balls in a box (as examples/scenes/balls_in_box.scene, in a plane so that it fits
+ * the suite's capacities: 64 walls and 120 contacts): balls of 0.1 kg and radius 0.05 in
+ * the square [0, 1]^2 at z = 0.5, under gravity along -y, thrown at up to 0.8 m/s; k = 1e6
+ * N/m^2 for walls and pairs, 1,000 steps of 1e-3 s with substeps and the fallback, GE, PM
+ * and PT. The motion stays in the plane exactly (every force and guard impulse is along a
+ * link or a wall's normal, whose z components are 0). Each: every step EDMI_OK, every window
+ * within the works and the tank (__float128), no ball through a wall, none through another
+ * (their distance above 0.1 - the overlap a cubic of k = 1e6 allows at these speeds, 0.02),
+ * and the total momentum along z exactly 0. Failed, split and fallback steps are reported. */
+#if EDMI_MAX_BODIES >= 16 && EDMI_MAX_LINKS >= 120 && EDMI_MAX_WALLS >= 64
+static void tc_check_box(void)
+{
+    static const edmi_scheme schemes[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
+    static edmi_system sys, prev;
+    static edmi_workspace work;
+    /* initial velocities (m/s), fixed: a deterministic run on every target */
+    static const signed char vel[16][2] = {{-4, -7}, {-8, 1}, {-8, 0}, {-1, -8}, {-1, 6}, {-5, 2},
+                                           {1, -2}, {-8, 7}, {-7, -7}, {6, -6}, {2, -2}, {-8, -8},
+                                           {3, -1}, {1, -1}, {5, 3}, {1, 0}};
+    int s;
+    for (s = 0; s < 3; s++) {
+        edmi_params prm = edmi_default_params();
+        edmi_potential pair = edmi_pot_contact(EDMI_R(1e6), EDMI_R(0.1));
+        edmi_potential face = edmi_pot_contact(EDMI_R(1e6), EDMI_R(0.05));
+        static const edmi_real nrm[4][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+        static const edmi_real off[4] = {0, -1, 0, -1};
+        const edmi_real g[3] = {0, EDMI_R(-9.81), 0};
+        long k;
+        long double gmin = 1e30L, dmin = 1e30L, pz = 0.0L;
+        int a, b, ok = 1, clean;
+        tc_tally t;
+        if (!th_has_scheme(schemes[s]))
+            continue;
+        prm.scheme = schemes[s];
+        prm.fallback = 1;
+        prm.substep_levels = 3;
+        ok = edmi_init(&sys, &prm) == EDMI_OK && edmi_set_field(&sys, g) == EDMI_OK;
+        for (a = 0; a < 16 && ok; a++) {
+            const edmi_real q[3] = {EDMI_R(0.2) * (edmi_real)(1 + a / 4),
+                                    EDMI_R(0.2) * (edmi_real)(1 + a % 4), EDMI_R(0.5)};
+            const edmi_real p[3] = {EDMI_R(0.01) * (edmi_real)vel[a][0],
+                                    EDMI_R(0.01) * (edmi_real)vel[a][1], 0};
+            ok = edmi_add_body(&sys, EDMI_R(0.1), q, p, 0) == EDMI_OK;
+            for (b = 0; b < 4 && ok; b++)
+                ok = edmi_add_wall(&sys, a, nrm[b], off[b], &face, 0) == EDMI_OK;
+            for (b = 0; b < a && ok; b++)
+                ok = edmi_add_pair(&sys, b, a, &pair, 0) == EDMI_OK;
+        }
+        if (!CHECK(ok))
+            return;
+        tc_tally_start(&t, &sys);
+        for (k = 0; k < 1000; k++) {
+            edmi_step_result res;
+            int j;
+            prev = sys;
+            if (!tc_tally_step(&t, edmi_step(&sys, &work, EDMI_R(1e-3), &res), &prev, &sys, &res))
+                continue;
+            for (j = 0; j < sys.n_walls; j++) {
+                const edmi_real *q = sys.body[sys.wall[j].a].q, *n = sys.wall[j].n;
+                gmin = fminl(gmin, (long double)n[0] * q[0] + (long double)n[1] * q[1] -
+                                       (long double)sys.wall[j].c);
+            }
+            for (j = 0; j < sys.n_links; j++)
+                dmin = fminl(dmin, tc_len(sys.body[sys.link[j].a].q, sys.body[sys.link[j].b].q));
+        }
+        for (a = 0; a < 16; a++)
+            pz += (long double)sys.body[a].p[2] + tc_abs((long double)sys.body[a].q[2] - 0.5L);
+        clean = tc_tally_put(&t, "  16 balls in a box ", schemes[s]);
+        th_puts(", smallest gap to a wall ");
+        th_put_ld(gmin, 3);
+        th_puts(", between balls ");
+        th_put_ld(dmin, 3);
+        th_newline();
+        CHECK(t.failed == 0 && t.broken == 0 && t.unchecked == 0 && tp_window_rise() <= 0.0L);
+        CHECK(gmin > 0.05L - 0.02L && dmin > 0.1L - 0.02L && pz == 0.0L);
+        (void)clean;
+    }
+}
+#endif
+
 /* A floor driven into a resting ball (a piston, edmi_move_wall): the floor rises at 0.5 m/s
  * for 0.2 s into a ball of 0.1 kg (R = 0.05, k = 1e6) touching it at rest, no gravity, then
  * stops; 1,000 steps of 1e-3 s, GE, PM, PT in both precisions. No failed or fallback step;
@@ -754,6 +834,11 @@ void suite_contact(void)
     tc_check_wall_cases();
     tc_check_rest();
     tc_check_piston();
+#if EDMI_MAX_BODIES >= 16 && EDMI_MAX_LINKS >= 120 && EDMI_MAX_WALLS >= 64
+    tc_check_box();
+#else
+    (void)th_skip(0, "16 balls in a box (the capacities hold fewer than 16 bodies, 120 links, 64 walls)");
+#endif
 #else
     (void)th_skip(0, "walls (EDMI_MAX_WALLS = 0)");
 #endif
