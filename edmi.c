@@ -1624,6 +1624,31 @@ static edmi_real edmi__wall_gap(const edmi_wall *wl, const edmi_real q[3], edmi_
 {
     return edmi__dot(wl->n, q) - c;
 }
+
+/* 1 if a one-sided wall potential is 0 with its derivatives at gap g as evaluated: g on
+ * its free side or at its kink (edmi__pot_contact). */
+static int edmi__wall_off(const edmi_potential *pot, edmi_real g)
+{
+    return (pot->kind == EDMI_POT_CONTACT && g >= pot->b) ||
+           (pot->kind == EDMI_POT_TETHER && g <= pot->b);
+}
+
+/* 1 if wall wl's V is exactly 0 at body position q (the wall at offset c) whose gap g was
+ * evaluated in working precision: a one-sided form with g on its free side by more than g's
+ * rounding (a dot of three products less c: 4 u of G = sum |n_i q_i| + |c|, taken as 8 eps
+ * of G + b, and what underflow lost). Its V and its force are 0 at both ends of such a step. */
+static int edmi__wall_free(const edmi_wall *wl, const edmi_real q[3], edmi_real c, edmi_real g)
+{
+    const edmi_potential *pot = &wl->pot;
+    edmi_real big = edmi__abs(c) + pot->b, x;
+    int i;
+    if (pot->kind != EDMI_POT_CONTACT && pot->kind != EDMI_POT_TETHER)
+        return 0;
+    for (i = 0; i < 3; i++)
+        big += edmi__abs(wl->n[i] * q[i]);
+    x = pot->kind == EDMI_POT_CONTACT ? pot->b - g : g - pot->b;
+    return x < -(EDMI_R(8.0) * EDMI_EPS * big + EDMI__DW_TINY);
+}
 #endif
 
 /* Start-of-step quantities of every link: r_n, d_n and the values at d_n the forces use, and
@@ -1749,7 +1774,11 @@ static edmi_status edmi__wall_force(const edmi_system *sys, edmi_workspace *work
     e.d1 = edmi__wall_gap(wl, q1, w->x1[0]);
     if (!edmi__finite(e.d1))
         return EDMI_ERR_DIVERGED;
-    if (EDMI__HAS_SCHEME(EDMI_MP) && s == EDMI_MP) {
+    if (edmi__wall_off(pot, w->d0) && edmi__wall_off(pot, e.d1)) {
+        /* off the body at both ends: every scheme's Lambda and its slope are 0 (V, V', V''
+         * and V''' vanish on the free side and at the kink, and every mean of the two gaps
+         * the schemes take lies between them) */
+    } else if (EDMI__HAS_SCHEME(EDMI_MP) && s == EDMI_MP) {
         st = edmi__pot_parts(pot, EDMI__HALF * w->d0 + EDMI__HALF * e.d1, &e.pavg, 0);
         lam = e.pavg.v[1];
         dlam = EDMI__HALF * e.pavg.v[2];
@@ -2113,6 +2142,8 @@ static void edmi__assemble(const edmi_system *sys, edmi_workspace *work, edmi_re
     }
 #if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) {
+        if (work->ww[j].gamma == EDMI__ZERO)
+            continue; /* a wall off its body */
         edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, k);
         edmi__scatter_anchor(g, row, sys->wall[j].a, k, work->h[sys->wall[j].a]);
     }
@@ -2322,6 +2353,8 @@ static edmi_status edmi__newton_update(const edmi_system *sys, edmi_workspace *w
                 g[i] += h * work->kd[j][i];
 #if EDMI_MAX_WALLS > 0
         for (j = 0; j < EDMI__N_WALLS(sys); j++) {
+            if (work->ww[j].gamma == EDMI__ZERO)
+                continue; /* a wall off its body */
             edmi__wall_tangent(&sys->wall[j], &work->ww[j], dt, k);
             for (i = 0; i < 9; i++)
                 g[i] += h * k[i];
@@ -3007,7 +3040,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
     edmi_real s1 = EDMI__ZERO, sch = EDMI__ZERO;
     edmi_real gn = EDMI__HAS_FIELD(sys) ? edmi__norm(sys->g) : EDMI__ZERO;
     int a, i, j, n = 2;
-    pl->ok = !EDMI__COUPLED(sys) && EDMI__N_WALLS(sys) == 0; /* walls: double-word alone */
+    pl->ok = !EDMI__COUPLED(sys);
 #if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* their share of S, for the tank's capacity */
         const edmi_wall *wl = &sys->wall[j];
@@ -3015,6 +3048,10 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
         edmi_real g1 = edmi__wall_gap(wl, q1[wl->a], work->ww[j].x1[0]);
         if (edmi__pot_parts(&wl->pot, g1, &pp, 0) == EDMI_OK)
             s1 += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(wl->c));
+        /* a wall off its body at both ends adds exactly 0; one touching: double-word alone */
+        if (!edmi__wall_free(wl, sys->body[wl->a].q, wl->c, work->ww[j].d0) ||
+            !edmi__wall_free(wl, q1[wl->a], work->ww[j].x1[0], g1))
+            pl->ok = 0;
     }
 #endif
     for (a = 0; a < sys->n_bodies; a++) {
@@ -4256,6 +4293,12 @@ static void edmi__pick_qmoves(const edmi_system *sys, const edmi_workspace *work
     }
 }
 
+/* x rounded downwards (x.hi is x rounded to nearest; one unit down where x.lo < 0). */
+static edmi_real edmi__dw_down(edmi__dw x)
+{
+    return x.lo < EDMI__ZERO ? x.hi - edmi__max(edmi__ulp(x.hi), EDMI__REAL_MIN * EDMI_EPS) : x.hi;
+}
+
 /* A reported work, accumulated: its double-word sum and a bound on that sum's error. */
 typedef struct edmi__work {
     edmi__dw w;
@@ -4291,11 +4334,9 @@ static void edmi__work_add(edmi__work *acc, const edmi_real f[3], const edmi_rea
  * errs by ~u^2 of the sum, far inside err (of its terms' magnitudes), taken twice. */
 static edmi_real edmi__work_down(const edmi__work *acc)
 {
-    edmi__dw x;
     if (acc->err == EDMI__ZERO) /* no term: no port, no moving anchor or wall */
         return acc->w.hi;
-    x = edmi__dw_add_r(acc->w, -EDMI_R(2.0) * acc->err);
-    return x.lo < EDMI__ZERO ? x.hi - edmi__max(edmi__ulp(x.hi), EDMI__REAL_MIN * EDMI_EPS) : x.hi;
+    return edmi__dw_down(edmi__dw_add_r(acc->w, -EDMI_R(2.0) * acc->err));
 }
 
 /* work_ext for the current work->q1, rounded down (edmi__step_work); updates bal->w. */
@@ -5000,7 +5041,8 @@ static edmi_real edmi__dw_up(edmi__dw x)
 
 /* Add a stored substep's result *sub into the step's *res. The works are summed exactly
  * (double-word, in *wx and *wa) and reported rounded upwards, so that the step's inequality
- * H_n+1 - H_n <= work_ext + work_anchor + T_n - T_n+1 is the sum of the substeps'. */
+ * H_n+1 - H_n <= work_ext + work_anchor + T_n - T_n+1 is the sum of the substeps' (until
+ * edmi__split_works rounds them down at the step's end). */
 static void edmi__add_substep(edmi_step_result *res, const edmi_step_result *sub, edmi__dw *wx,
                               edmi__dw *wa)
 {
@@ -5022,6 +5064,27 @@ static void edmi__add_substep(edmi_step_result *res, const edmi_step_result *sub
     res->stop = res->stop == EDMI_STOP_FALLBACK ? res->stop : sub->stop;
     res->substeps++;
     res->fallbacks += sub->stop == EDMI_STOP_FALLBACK;
+}
+
+/* The works of a split step as reported: the substeps' sums *wx, *wa rounded down (never
+ * above the exact works, each substep's being rounded down), where the tank at the end holds
+ * what that takes from the step's inequality, at most a unit of each work: T_n+1 is lowered
+ * by it (rounded down), so H_n+1 - H_n <= work_ext + work_anchor + T_n - T_n+1 still holds of
+ * the reported numbers. With less in the tank (tank_cap 0, or a tank drained to 0) the
+ * works stay rounded up (edmi__add_substep), at most a unit above their exact sum. */
+static void edmi__split_works(edmi_system *sys, edmi_step_result *res, edmi__dw wx, edmi__dw wa)
+{
+    edmi_real wx_down = edmi__dw_down(wx), wa_down = edmi__dw_down(wa), tank;
+    /* each difference is exact (a unit or 0); twice the larger is at least their sum */
+    edmi_real cut = EDMI_R(2.0) * edmi__max(res->work_ext - wx_down, res->work_anchor - wa_down);
+    if (cut == EDMI__ZERO || !edmi__guard_on(&sys->params))
+        return; /* exact already, or no tank to take it from (untouched with the guard off) */
+    tank = edmi__dw_down(edmi__dw_add_r(edmi__dw_of(sys->tank), -cut));
+    if (!(tank >= EDMI__ZERO))
+        return;
+    res->work_ext = wx_down;
+    res->work_anchor = wa_down;
+    sys->tank = res->tank = tank >= EDMI__REAL_MIN ? tank : EDMI__ZERO;
 }
 
 /* Whether the step's sums stay within the range with substep *sub added (each substep's
@@ -5208,6 +5271,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     }
     res->iterations = iterations;
     res->halvings = halvings;
+    edmi__split_works(sys, res, wx, wa);
     edmi__store_forces(sys, work, 1);
     return EDMI_OK;
 }

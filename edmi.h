@@ -675,8 +675,11 @@ typedef struct edmi_step_result {
                                  -sum link_force . (x_n+1 - x_n) of the stored force and
                                  anchors (a wall's -Lambda (c_n+1 - c_n)), rounded down. A
                                  step taken as substeps reports each work as the substeps'
-                                 (each rounded down) summed and rounded up, at most a unit
-                                 above their sum; a fallback state reports work_anchor as the
+                                 (each rounded down) summed and rounded down, the unit that
+                                 costs the step's inequality taken from the tank at its end;
+                                 where the tank holds less than that unit (tank_cap 0, an
+                                 empty tank, the guard off) the sum is rounded up, at most a
+                                 unit above it. A fallback state reports work_anchor as the
                                  moved anchors' V change rounded up */
     edmi_real diss_damping; /*!< energy the dampers removed (>= 0) */
     edmi_real diss_scheme;  /*!< energy the scheme removed: sum over links of (work of the

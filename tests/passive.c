@@ -1287,6 +1287,18 @@ static int tp_works_below(const edmi_system *s0, const edmi_system *s1,
            (tp_q)res->work_anchor <= wa + (tp_q)8.0 * TP_Q_EPS * ma;
 }
 
+int tp_port_work_below(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res)
+{
+    tp_q wx = (tp_q)0.0;
+    int k, i;
+    for (k = 0; k < s0->n_forced; k++) {
+        int b = s0->forced[k];
+        for (i = 0; i < 3; i++) /* each product exact in tp_q, the sum of few terms too */
+            wx += (tp_q)s0->force[b][i] * ((tp_q)s1->body[b].q[i] - (tp_q)s0->body[b].q[i]);
+    }
+    return (tp_q)res->work_ext <= wx;
+}
+
 void tp_run(tp_scene s, const edmi_params *prm, long n, tp_stats *st)
 {
     edmi_real dt;

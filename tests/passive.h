@@ -77,6 +77,10 @@ int tp_window_step(const edmi_system *s0, const edmi_system *s1, const edmi_step
 /* The largest H_n - H_0 - (the works from 0 to n) over the run since tp_window_start, evaluated
  * in tp_q (0 at the start; at most T_0 plus the check's rounding while no window is broken). */
 long double tp_window_rise(void);
+/* 1 if the step's reported work_ext is at most the exact work of its ports on the stored
+ * numbers, sum F . (q_n+1 - q_n) in tp_q (a split step's too: its ports hold F, so the
+ * substeps' exact works add up to it). */
+int tp_port_work_below(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res);
 
 /* H of a stored state, evaluated in tp_q and rounded to long double (for drifts relative to
  * H0); LDBL_MAX for a coupled M that is not positive definite to long double's resolution
