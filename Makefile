@@ -31,8 +31,10 @@
 #>     the 1 kHz virtual coupling (examples/haptic.c): its table and trace, and the figure
 #>     where gnuplot is installed
 #> make haptic-wall     5 s      needs gnuplot for the figure
-#>     a device touching a wall at 1 kHz (examples/haptic_wall.c): which device damping keeps
-#>     the loop passive, the wall explicit or edmi's behind a virtual coupling; its figure
+#>     a hand pressing a tool into a wall through the coupling, each scheme
+#>     (examples/tool_on_wall.c); a device touching a wall at 1 kHz (examples/haptic_wall.c):
+#>     which device damping keeps the loop passive, the wall explicit or edmi's behind a
+#>     virtual coupling; its figure
 #> make plots           2 min    needs gnuplot for the figures
 #>     traces of the paper's examples and every figure in examples/figures/ (without gnuplot:
 #>     the traces and the cable's table only)

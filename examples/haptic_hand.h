@@ -23,6 +23,12 @@
 #define HH_DT EDMI_R(1e-3)          /* tick [s]: 1 kHz */
 #define HH_TICKS 6000L              /* ticks: 6 s */
 
+/* The wall the hand presses the tool into (examples/tool_on_wall.c, port/haptic_target.c
+ * with HT_WALL): the plane x = HH_WALL_X, the tool on its side x < HH_WALL_X, the contact
+ * potential HH_WALL_K / 3 (-g)^3 of the gap g = HH_WALL_X - x. */
+#define HH_WALL_X EDMI_R(0.04)  /* [m]: the hand reaches 57 mm */
+#define HH_WALL_K EDMI_R(1e8)   /* [N/m^2]: 51 N at 0.7 mm */
+
 #define HH_PI EDMI_R(3.141592653589793)
 #define HH_TWO_PI EDMI_R(6.283185307179586)
 #define HH_N_FLICKS 5

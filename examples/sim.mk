@@ -121,8 +121,9 @@ haptic: $(HOST)/haptic
 	    echo "make haptic: gnuplot not found: skipped $(SIM_FIGURES)/haptic_energy.png (the trace is $(SIM_PLOTS)/haptic.csv)"; \
 	fi
 
-# A device touching a wall at 1 kHz (examples/haptic_wall.c): the library with walls, its own
-# object; the table, and the passivity map's figure where gnuplot is installed.
+# A hand pressing a tool into a wall through the coupling (examples/tool_on_wall.c), then a
+# device touching a wall at 1 kHz (examples/haptic_wall.c): the library with walls, its own
+# object; the tables, and the passivity map's figure where gnuplot is installed.
 $(HOST)/wall/edmi.o: edmi.c edmi.h
 	@mkdir -p $(@D)
 	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -DEDMI_MAX_WALLS=1 -c $< -o $@
@@ -130,8 +131,14 @@ $(HOST)/wall/haptic_wall: examples/haptic_wall.c $(HOST)/wall/edmi.o edmi.h
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -DEDMI_MAX_WALLS=1 -I. $< \
 	    $(HOST)/wall/edmi.o -o $@ $(LDLIBS)
 
-haptic-wall: $(HOST)/wall/haptic_wall
+$(HOST)/wall/tool_on_wall: examples/tool_on_wall.c examples/haptic_hand.h $(HOST)/wall/edmi.o edmi.h
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -DEDMI_MAX_WALLS=1 -I. $< \
+	    $(HOST)/wall/edmi.o -o $@ $(LDLIBS)
+
+haptic-wall: $(HOST)/wall/haptic_wall $(HOST)/wall/tool_on_wall
 	@mkdir -p $(SIM_PLOTS) $(SIM_FIGURES)
+	$(HOST)/wall/tool_on_wall
+	@echo
 	$(HOST)/wall/haptic_wall --csv $(SIM_PLOTS)/haptic_wall.csv
 	@if command -v gnuplot >/dev/null 2>&1; then \
 	    gnuplot -e "data='$(SIM_PLOTS)'; out='$(SIM_FIGURES)/haptic_wall.png'" \

@@ -24,7 +24,12 @@
  * by what the energy tank held, sys.tank), the ticks beyond the tank (H_n+1 - H_n -
  * work_anchor - (T_n - T_n+1) above 32 double epsilons of the terms: the program fails on
  * any), the largest E_inj, and the bits of the final state, which examples/haptic.c prints
- * too (float: build/float/haptic after `make EDMI_REAL=float`). */
+ * too (float: build/float/haptic after `make EDMI_REAL=float`).
+ *
+ * Built with -DHT_WALL=1 (and the library with -DEDMI_MAX_WALLS=1): the same coupling with
+ * the wall of examples/tool_on_wall.c, into which the hand presses the tool (HH_WALL_X,
+ * HH_WALL_K): what a tick costs when the coupling touches a wall; H then includes the
+ * wall's V. */
 #include <float.h>
 #include <stddef.h>
 
@@ -33,6 +38,10 @@
 #include "cortex-m/counter.h"
 #include "cortex-m/semihost.h"
 #include "cortex-m/stack.h"
+
+#ifndef HT_WALL
+#define HT_WALL 0
+#endif
 
 /* The model, from haptic_hand.h (examples/haptic.c runs the same). */
 #define HT_M HH_MASS
@@ -146,19 +155,32 @@ static void ht_put_bits(edmi_real x)
 
 /* H_n+1 - H_n of two stored states in double (float values: their differences and products
  * are exact or within one double rounding, far below float's grid). */
+#if HT_WALL
+/* The wall's V at tool position q, in double (q - HH_WALL_X exact). */
+static double ht_vwall(edmi_real q)
+{
+    double pen = (double)q - (double)HH_WALL_X;
+    return pen > 0.0 ? (double)HH_WALL_K / 3.0 * pen * pen * pen : 0.0;
+}
+#else
+static double ht_vwall(edmi_real q) { return (void)q, 0.0; }
+#endif
+
 static double ht_dh(edmi_real q0, edmi_real p0, edmi_real x0, edmi_real q1, edmi_real p1,
                     edmi_real x1)
 {
     double dp = (double)p1 - (double)p0, sp = (double)p1 + (double)p0;
     double e0 = (double)q0 - (double)x0, e1 = (double)q1 - (double)x1;
-    return dp * sp / (2.0 * (double)HT_M) + 0.5 * (double)HT_K * (e1 - e0) * (e1 + e0);
+    return dp * sp / (2.0 * (double)HT_M) + 0.5 * (double)HT_K * (e1 - e0) * (e1 + e0) +
+           (ht_vwall(q1) - ht_vwall(q0));
 }
 
 /* H of a stored state in double, and |x|: the magnitude of ht_dh's terms (its resolution) */
 static double ht_h(edmi_real q, edmi_real p, edmi_real x)
 {
     double e = (double)q - (double)x;
-    return (double)p * (double)p / (2.0 * (double)HT_M) + 0.5 * (double)HT_K * e * e;
+    return (double)p * (double)p / (2.0 * (double)HT_M) + 0.5 * (double)HT_K * e * e +
+           ht_vwall(q);
 }
 
 static double ht_abs(double x) { return x < 0.0 ? -x : x; }
@@ -172,6 +194,7 @@ static edmi_status ht_build(int *tool, int *link)
     edmi_status s;
     prm.scheme = EDMI_PM;
     prm.fallback = 1;
+    prm.substep_levels = HT_WALL ? 3 : 0; /* PM's force jumps where a contact begins */
     q[0] = hh_position(EDMI_R(0.0));
     s = edmi_init(&ht_sys, &prm);
     if (s == EDMI_OK)
@@ -180,6 +203,13 @@ static edmi_status ht_build(int *tool, int *link)
         s = edmi_add_anchor(&ht_sys, *tool, q, &spring, link);
     if (s == EDMI_OK)
         s = edmi_add_damper(&ht_sys, *link, HT_B, NULL);
+#if HT_WALL
+    if (s == EDMI_OK) {
+        const edmi_real n[3] = {EDMI_R(-1.0), EDMI_R(0.0), EDMI_R(0.0)};
+        edmi_potential wall = edmi_pot_contact(HH_WALL_K, EDMI_R(0.0));
+        s = edmi_add_wall(&ht_sys, *tool, n, -HH_WALL_X, &wall, NULL);
+    }
+#endif
     return s;
 }
 
@@ -196,15 +226,20 @@ int main(void)
     int c;
     unsigned long worst = 0UL, t0, t1, sp0, stack;
     long n, worst_tick = 0, guarded = 0, by_action[3] = {0, 0, 0}, fallbacks = 0, failed = 0;
-    long rises = 0, beyond_tank = 0, iterations = 0;
+    long rises = 0, beyond_tank = 0, iterations = 0, touching = 0, splits = 0;
+    unsigned long long touch_sum = 0ULL;
+    unsigned long touch_max = 0UL;
     int tool = 0, link = 0, max_iterations = 0;
     double e_inj = 0.0, e_max = 0.0, worst_excess = 0.0;
     edmi_status s;
 
     tgt_puts("edmi haptic_target: EDMI_REAL=");
     tgt_puts(edmi_is_double_precision() ? "double" : "float");
-    tgt_puts(", the 1 kHz virtual coupling of examples/haptic.c (edmi PM, guard on, "
-             "fallback on), ");
+    tgt_puts(HT_WALL ? ", the 1 kHz virtual coupling of examples/haptic.c pressed into the wall "
+                       "of examples/tool_on_wall.c (edmi PM, guard on, fallback on, 3 levels of "
+                       "substeps), "
+                     : ", the 1 kHz virtual coupling of examples/haptic.c (edmi PM, guard on, "
+                       "fallback on), ");
     tgt_put_uint((unsigned long)HT_TICKS);
     tgt_puts(" ticks\n");
     ht_cycles = tgt_cyccnt_start();
@@ -289,6 +324,13 @@ int main(void)
             continue;
         }
         iterations += res.iterations;
+        splits += res.substeps > 1;
+        if (ht_vwall(q0) > 0.0 || ht_vwall(ht_sys.body[tool].q[0]) > 0.0) { /* in contact */
+            touching++;
+            touch_sum += dt_count;
+            if (dt_count > touch_max)
+                touch_max = dt_count;
+        }
         if (res.iterations > max_iterations)
             max_iterations = res.iterations;
         fallbacks += res.stop == EDMI_STOP_FALLBACK;
@@ -354,6 +396,17 @@ int main(void)
         tgt_put_uint(ht_worst(class_max[c], base));
         tgt_puts(" |\n");
     }
+    if (HT_WALL && touching > 0) {
+        tgt_puts("| in contact with the wall at the tick's start or end | ");
+        tgt_put_uint((unsigned long)touching);
+        tgt_puts(" | ");
+        ht_put_ratio1(touch_sum * ht_unit - (unsigned long long)touching * base * ht_unit /
+                          (unsigned long long)HT_TICKS,
+                      (unsigned long long)touching);
+        tgt_puts(" | ");
+        tgt_put_uint(ht_worst(touch_max, base));
+        tgt_puts(" |\n");
+    }
     tgt_puts("\nNewton iterations per tick ");
     ht_put_ratio1((unsigned long long)iterations, (unsigned long long)HT_TICKS);
     tgt_puts(" (max ");
@@ -370,7 +423,9 @@ int main(void)
     tgt_put_uint((unsigned long)by_action[1]);
     tgt_puts(", drag ");
     tgt_put_uint((unsigned long)by_action[2]);
-    tgt_puts("); fallbacks ");
+    tgt_puts("); ticks split into substeps ");
+    tgt_put_uint((unsigned long)splits);
+    tgt_puts("; fallbacks ");
     tgt_put_uint((unsigned long)fallbacks);
     tgt_puts("; failed ticks ");
     tgt_put_uint((unsigned long)failed);

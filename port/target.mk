@@ -358,9 +358,25 @@ $(TGT_WORST_DIR)/worst_target.elf: $(TGT_WORST_DIR)/edmi.o $(TGT_RT_an386) \
 worst-target: $(TGT_WORST_DIR)/worst_target.elf
 	$(TGT_RUN) $(TGT_MACHINE_an386) $< -icount shift=0
 
-# The haptic example on the Cortex-M4F in float, as a firmware would run it.
-haptic-target: $(TGT)/an386/haptic_target.elf
+# The haptic example on the Cortex-M4F in float, as a firmware would run it; then the same
+# coupling pressed into a wall (HT_WALL; the library with one wall, its own object).
+TGT_HWALL_DIR := $(TGT)/an386-wall
+$(TGT_HWALL_DIR)/edmi.o: edmi.c edmi.h
+	@mkdir -p $(@D)
+	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) -DEDMI_REAL=float -DEDMI_MAX_WALLS=1 \
+	    -c $< -o $@
+$(TGT_HWALL_DIR)/app-haptic_target.o: port/haptic_target.c edmi.h examples/haptic_hand.h \
+		$(TGT_PORT_HDR)
+	@mkdir -p $(@D)
+	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) -DEDMI_REAL=float \
+	    -DEDMI_MAX_WALLS=1 -DHT_WALL=1 -c $< -o $@
+$(TGT_HWALL_DIR)/haptic_target.elf: $(TGT_HWALL_DIR)/edmi.o $(TGT_RT_an386) \
+		$(TGT_HWALL_DIR)/app-haptic_target.o $(TGT_LD)
+	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
+	    -Wl,--gc-sections $(filter %.o,$^) -lm -lc -lgcc -o $@
+haptic-target: $(TGT)/an386/haptic_target.elf $(TGT_HWALL_DIR)/haptic_target.elf
 	$(TGT_RUN) $(TGT_MACHINE_an386) $< -icount shift=0
+	$(TGT_RUN) $(TGT_MACHINE_an386) $(TGT_HWALL_DIR)/haptic_target.elf -icount shift=0
 
 # The runner must report a clean run as passed and a failed check, a fault, a hang and a stack
 # overflow as failed, with the exit statuses 0, 1, 3, 124 and 4.

@@ -932,6 +932,7 @@ int tp_delta_h_fast(const edmi_system *s0, const tp_hdw *h0, const edmi_system *
  * and A_m so far, and the largest rise of A over its lowest (in units of H's scale). */
 typedef struct tp_win {
     tp_q h_last, sum_w, a_min, a_low, a_err, max_window, a_max;
+    long steps;
 } tp_win;
 
 static void tp_win_start(tp_win *w, tp_q h, tp_q tank)
@@ -939,6 +940,7 @@ static void tp_win_start(tp_win *w, tp_q h, tp_q tank)
     w->h_last = h;
     w->sum_w = w->a_err = w->max_window = (tp_q)0.0;
     w->a_max = h;
+    w->steps = 0;
     w->a_min = h + tank;
     w->a_low = h;
 }
@@ -954,7 +956,7 @@ static int tp_win_add(tp_win *w, const tp_qdelta *d, const edmi_step_result *res
     w->a_err += d->err + TP_Q_EPS * (tp_absq(w->sum_w) + tp_absq(a_n));
     if ((a_n - w->a_low) / scale > w->max_window)
         w->max_window = (a_n - w->a_low) / scale;
-    if (a_n > w->a_max)
+    if (w->steps++ == 0 || a_n > w->a_max)
         w->a_max = a_n;
     ok = !(a_n - w->a_min > w->a_err);
     w->h_last += d->dh;

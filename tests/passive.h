@@ -74,8 +74,9 @@ int tp_delta_h_fast(const edmi_system *s0, const tp_hdw *h0, const edmi_system *
  * One run at a time. */
 void tp_window_start(const edmi_system *s);
 int tp_window_step(const edmi_system *s0, const edmi_system *s1, const edmi_step_result *res);
-/* The largest H_n - H_0 - (the works from 0 to n) over the run since tp_window_start, evaluated
- * in tp_q (0 at the start; at most T_0 plus the check's rounding while no window is broken). */
+/* The largest H_n - H_0 - (the works from 0 to n) over the steps n >= 1 of the run since
+ * tp_window_start (0 before a step), evaluated in tp_q: at most T_0 plus the check's rounding
+ * while no window is broken. */
 long double tp_window_rise(void);
 /* 1 if the step's reported work_ext is at most the exact work of its ports on the stored
  * numbers, sum F . (q_n+1 - q_n) in tp_q (a split step's too: its ports hold F, so the
