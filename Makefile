@@ -69,7 +69,7 @@
 #> make cross           75 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-riscv64-unknown-elf
 #>     edmi.c for Cortex-M4F, M7, M0+ and rv32imac: size table, capacity table, build
 #>     options table (EDMI_WITH_*), external references
-#> make test-target     3 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make test-target     4 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the test suite on QEMU: Cortex-M4F (float; also in the coupling build) and Cortex-M7
 #>     (double), with the mass-matrix tests
 #> make bench-target    2 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm

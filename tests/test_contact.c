@@ -84,7 +84,7 @@ static void tc_check_forms(int contact)
 /* Parameters outside the documented domain: refused by edmi_add_pair, nothing added. */
 static void tc_check_refused(void)
 {
-    edmi_system sys;
+    static edmi_system sys;
     edmi_params prm = edmi_default_params();
     const edmi_real q0[3] = {0, 0, 0}, q1[3] = {1, 0, 0}, z[3] = {0, 0, 0};
     edmi_real nan = (edmi_real)NAN, inf = (edmi_real)INFINITY;
@@ -361,7 +361,7 @@ static int tc_tally_put(const tc_tally *t, const char *label, edmi_scheme scheme
  * potential a wall does not take or outside its domain; nothing added. */
 static void tc_check_wall_refused(void)
 {
-    edmi_system sys;
+    static edmi_system sys;
     edmi_params prm = edmi_default_params();
     const edmi_real q[3] = {0, 0, 1}, z[3] = {0, 0, 0}, up[3] = {0, 0, 2};
     const edmi_real zero[3] = {0, 0, 0}, nan3[3] = {0, (edmi_real)NAN, 1};
