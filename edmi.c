@@ -5696,6 +5696,13 @@ edmi_status edmi_init(edmi_system *sys, const edmi_params *params)
     return EDMI_OK;
 }
 
+/* Whether sys was set up by edmi_init or edmi_load_scene: its parameters are valid (a system
+ * never set up, static or zeroed, has l_max 0 and tol_q 0). The builders refuse any other. */
+static int edmi__set_up(const edmi_system *sys)
+{
+    return edmi__params_valid(&sys->params) != EDMI_ERR_PARAM;
+}
+
 edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
                           const edmi_real p[3], int *index)
 {
@@ -5703,6 +5710,8 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
     edmi_status st;
     if (!sys || !q || !p)
         return EDMI_ERR_NULL;
+    if (!edmi__set_up(sys))
+        return EDMI_ERR_UNINIT;
     st = edmi__body_valid(m, q, p);
     if (st != EDMI_OK)
         return st;
@@ -5763,11 +5772,16 @@ static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_rea
     edmi_status st;
     if (!sys || !pot || (b == EDMI_ANCHOR && !x))
         return EDMI_ERR_NULL;
+    if (!edmi__set_up(sys))
+        return EDMI_ERR_UNINIT;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
     st = edmi__link_valid(sys->n_bodies, a, b, pot, x ? x : origin);
     if (st != EDMI_OK)
         return st;
+    if (edmi__same3(sys->body[a].q, b == EDMI_ANCHOR ? x : sys->body[b].q) &&
+        !edmi__is_linear(pot))
+        return EDMI_ERR_COINCIDENT; /* the first step could not start */
     if (sys->n_links >= EDMI_MAX_LINKS)
         return EDMI_ERR_CAPACITY;
     if (EDMI__MATRIX_BOUNDED && b != EDMI_ANCHOR) {
@@ -5815,14 +5829,18 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3])
 
 edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
 {
+    edmi_status st;
     if (!sys)
         return EDMI_ERR_NULL;
-    edmi_status st;
+    if (!edmi__set_up(sys))
+        return EDMI_ERR_UNINIT;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
     st = edmi__damper_valid(sys->n_links, link, c);
     if (st != EDMI_OK)
         return st;
+    if (EDMI_MAX_DAMPERS == 0)
+        return EDMI_ERR_DISABLED; /* dampers compiled out */
     if (EDMI__N_DAMPERS(sys) >= EDMI_MAX_DAMPERS)
         return EDMI_ERR_CAPACITY;
     sys->damper[sys->n_dampers].link = link;
@@ -5839,6 +5857,8 @@ edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_re
 {
     if (!sys || !n || !pot)
         return EDMI_ERR_NULL;
+    if (!edmi__set_up(sys))
+        return EDMI_ERR_UNINIT;
     if (!edmi__counts_valid(sys))
         return EDMI_ERR_CAPACITY;
 #if EDMI_MAX_WALLS > 0
@@ -5857,7 +5877,7 @@ edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_re
     return EDMI_OK;
 #else
     (void)a, (void)c, (void)index;
-    return EDMI_ERR_CAPACITY; /* walls compiled out */
+    return EDMI_ERR_DISABLED; /* walls compiled out */
 #endif
 }
 
@@ -5876,7 +5896,7 @@ edmi_status edmi_move_wall(edmi_system *sys, int w, edmi_real c_next)
     return EDMI_OK;
 #else
     (void)w, (void)c_next;
-    return EDMI_ERR_CAPACITY; /* walls compiled out */
+    return EDMI_ERR_DISABLED; /* walls compiled out */
 #endif
 }
 
@@ -6187,6 +6207,7 @@ const char *edmi_status_name(edmi_status s)
     case EDMI_ERR_PASSIVITY: return "EDMI_ERR_PASSIVITY";
     case EDMI_ERR_RANGE: return "EDMI_ERR_RANGE";
     case EDMI_ERR_DISABLED: return "EDMI_ERR_DISABLED";
+    case EDMI_ERR_UNINIT: return "EDMI_ERR_UNINIT";
     default: return "EDMI_ERR_UNKNOWN";
     }
 }

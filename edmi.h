@@ -9,8 +9,8 @@
  * generalized Eyre (GE), perturbed mid-point (PM) and perturbed trapezoidal (PT), for bodies
  * coupled by pair potentials V(d), bodies tied to anchors and bodies against walls (planes).
  *
- * Read it in this order (README.md has three complete programs, docs/api.md the API by
- * group):
+ * Read it in this order (README.md has two complete programs and a scene, docs/api.md the
+ * API by group):
  *   Configuration    EDMI_REAL, the capacities EDMI_MAX_* and the features EDMI_WITH_*: -D or
  *                    an EDMI_USER_CONFIG file
  *   Types            status codes, parameters, potentials, bodies, links, the system, scenes,
@@ -75,7 +75,7 @@
 
 /** Viscous dampers per system (each acts along one link). Costs an int and a real in
  *  edmi_system and 9 reals in edmi_workspace per damper. 0 compiles dampers out: the step
- *  holds no damper code (edmi_add_damper() then returns EDMI_ERR_CAPACITY) and the structs
+ *  holds no damper code (edmi_add_damper() then returns EDMI_ERR_DISABLED) and the structs
  *  keep one unused slot. */
 #ifndef EDMI_MAX_DAMPERS
 #define EDMI_MAX_DAMPERS 16
@@ -84,10 +84,9 @@
 /** Walls per system: a body against a plane, V(g) of its gap g = n.q - c (edmi_add_wall()).
  *  Costs an edmi_wall and 3 reals (its force) in edmi_system and an edmi_link_ws in
  *  edmi_workspace per wall, and the wall's next offset (296 B in float on a 32-bit core), and an
- *  int. 0 (the default)
- *  compiles walls out: the step holds no wall code, the structs no wall members
- *  (sys->n_walls, wall[], wall_force[] exist only with walls), and edmi_add_wall() returns
- *  EDMI_ERR_CAPACITY. */
+ *  int. 0 (the default) compiles walls out: the step holds no wall code, the structs no wall
+ *  members (sys->n_walls, wall[], wall_force[] exist only with walls), and edmi_add_wall()
+ *  and edmi_move_wall() return EDMI_ERR_DISABLED. */
 #ifndef EDMI_MAX_WALLS
 #define EDMI_MAX_WALLS 0
 #endif
@@ -295,7 +294,7 @@ typedef enum edmi_status {
     EDMI_ERR_PARAM,          /*!< an invalid potential parameter, scheme, option or tolerance */
     EDMI_ERR_COINCIDENT,     /*!< two linked bodies (or a body and its anchor) at distance 0 */
     EDMI_ERR_SINGULAR,       /*!< the Newton matrix is singular to working precision */
-    EDMI_ERR_NO_CONVERGENCE, /*!< Newton did not meet tol_R/tol_A within l_max iterations */
+    EDMI_ERR_NO_CONVERGENCE, /*!< Newton did not meet tol_r/tol_a within l_max iterations */
     EDMI_ERR_DIVERGED,       /*!< Newton left the potentials' domain (a distance 0, a
                                   non-finite value, a user callback refusing) and halving the
                                   correction did not bring it back within l_max iterations */
@@ -307,10 +306,14 @@ typedef enum edmi_status {
                                   input is finite: a step's scale (|q| + dt |p| / m), its
                                   residual, work or energy balance, an invariant, a
                                   potential's derivative overflows (docs/api.md, "Limits") */
-    EDMI_ERR_DISABLED        /*!< a scheme, potential, LG form or effect this build compiled
-                                  out (an EDMI_WITH_* option set to 0); checked after the
-                                  pointers, counts and values: an invalid potential of a kind
-                                  compiled out is EDMI_ERR_PARAM */
+    EDMI_ERR_DISABLED,       /*!< a scheme, potential, LG form or effect this build compiled
+                                  out (an EDMI_WITH_* option set to 0, or a damper or wall
+                                  where EDMI_MAX_DAMPERS or EDMI_MAX_WALLS is 0); checked after
+                                  the pointers, counts and values: an invalid potential of a
+                                  kind compiled out is EDMI_ERR_PARAM */
+    EDMI_ERR_UNINIT          /*!< a builder (edmi_add_*) was given a system that edmi_init()
+                                  or edmi_load_scene() did not set up: its params are not
+                                  valid */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */
@@ -330,11 +333,11 @@ typedef enum edmi_lg_form {
      *  EDMI_LG_QUOTIENT. */
     EDMI_LG_CLOSED = 0,
     /** The quotient as written, replaced by the alternate force of edmi_lg_alt on every link
-     *  whose |d1 - d0| <= tol_Q (the paper's section 3.4). */
+     *  whose |d1 - d0| <= params.tol_q (the paper's section 3.4). */
     EDMI_LG_QUOTIENT
 } edmi_lg_form;
 
-/** LG's alternate force on a link when |d1 - d0| <= tol_Q (EDMI_LG_QUOTIENT only). */
+/** LG's alternate force on a link when |d1 - d0| <= params.tol_q (EDMI_LG_QUOTIENT only). */
 typedef enum edmi_lg_alt {
     EDMI_ALT_JANZ = 0, /*!< V'(d_avg), the paper's default (eq. janz-mid-point-rescue) */
     EDMI_ALT_GONZALEZ, /*!< V'(d_avg) + (d1-d0)^2/24 V'''(d_avg) (eq. gonzalez-mid-point-rescue) */
@@ -569,12 +572,14 @@ typedef struct edmi_scene {
     const edmi_mass_coupling *mass_couplings; /*!< each pair at most once (may be NULL when 0) */
 } edmi_scene; /* walls are added after loading, with edmi_add_wall() */
 
-/** Newton scratch space. Caller-owned; one workspace may serve several systems stepped one
- *  after another. Between calls it means nothing but the factors of a system's last Newton
- *  matrix, which that system's next edmi_step() with the same dt uses for its first
- *  corrections (the system records where they are): the same calls give the same results
- *  on every target, and a step's last bits can depend on whether the workspace served
- *  another system since. */
+/** Newton's workspace. Caller-owned; one workspace may serve several systems stepped one
+ *  after another. Between calls it keeps what the next step of the system it last served may
+ *  reuse: the factors of that step's Newton matrix, which the next edmi_step() with the same
+ *  dt uses for its first corrections (the system records where they are), and the links'
+ *  potential values at the step's end, reused only where a link's ends and potential are
+ *  bit for bit the ones they were evaluated for. The same calls give the same results on
+ *  every target; a step's last bits can depend on whether the workspace served another
+ *  system since. */
 typedef struct edmi_workspace edmi_workspace; /* its layout: at the end of this header */
 
 /** Why Newton stopped (a successful step). Every stop but EDMI_STOP_FALLBACK leaves an
@@ -722,7 +727,7 @@ typedef struct edmi_invariants {
  * ---------------------------------------------------------------------------------------- */
 
 /** \brief Defaults: scheme PM (energy-safe: with the guard, H never rises), LG closed form,
- *  alternate Janz, tol_Q 1e-8 (double; 1e-3 in float), tol_R = tol_A = 0 (Newton runs to its
+ *  alternate Janz, tol_q 1e-8 (double; 1e-3 in float), tol_r = tol_a = 0 (Newton runs to its
  *  round-off floor), l_max 20, guard AUTO, no fallback, no energy_balance. */
 edmi_params edmi_default_params(void);
 
@@ -741,20 +746,23 @@ edmi_status edmi_set_params(edmi_system *sys, const edmi_params *params);
 /** \brief Append a body.
  *  \param[in] m mass > 0; \param[in] q position; \param[in] p momentum
  *  \param[out] index the new body's index, or NULL
- *  \return EDMI_OK, EDMI_ERR_NULL (sys, q or p), EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
- *          EDMI_ERR_CAPACITY */
+ *  \return EDMI_OK, EDMI_ERR_NULL (sys, q or p), EDMI_ERR_UNINIT (sys not set up by
+ *          edmi_init()), EDMI_ERR_MASS, EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
 edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
                           const edmi_real p[3], int *index);
 
 /** \brief Link bodies a != b with a pair potential.
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_PARAM, EDMI_ERR_NONFINITE,
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX, EDMI_ERR_PARAM,
+ *          EDMI_ERR_NONFINITE, EDMI_ERR_COINCIDENT (the two bodies at one point and a
+ *          potential not defined at distance 0: every one but harmonic of rest length 0),
  *          EDMI_ERR_CAPACITY */
 edmi_status edmi_add_pair(edmi_system *sys, int a, int b, const edmi_potential *pot,
                           int *index);
 
 /** \brief Tie body a to the fixed point x with a potential of the distance ||q_a - x||.
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_PARAM, EDMI_ERR_NONFINITE,
- *          EDMI_ERR_CAPACITY */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX, EDMI_ERR_PARAM,
+ *          EDMI_ERR_NONFINITE, EDMI_ERR_COINCIDENT (x at the body and a potential not
+ *          defined at distance 0), EDMI_ERR_CAPACITY */
 edmi_status edmi_add_anchor(edmi_system *sys, int a, const edmi_real x[3],
                             const edmi_potential *pot, int *index);
 
@@ -764,16 +772,18 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3]);
 
 /** \brief Put a linear viscous damper on a link: it pushes the link's ends apart or together
  *  with c times their relative speed along the link (dissipative, conserves L, J and C).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link), EDMI_ERR_PARAM (c < 0 or
- *          not finite), EDMI_ERR_CAPACITY */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX (no such link),
+ *          EDMI_ERR_PARAM (c < 0 or not finite), EDMI_ERR_DISABLED (EDMI_MAX_DAMPERS is 0),
+ *          EDMI_ERR_CAPACITY */
 edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index);
 
 /** \brief Put body a against the plane n.x = c (n need not be unit: it is stored normalised)
  *  with the potential pot of the gap g = n.q_a - c (edmi_wall). *index (if not NULL) receives
  *  the wall's number, for sys->wall_force.
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such body), EDMI_ERR_NONFINITE (n or c),
- *          EDMI_ERR_PARAM (n of length 0, or a potential a wall does not take: edmi_wall),
- *          EDMI_ERR_DISABLED (its kind compiled out), EDMI_ERR_CAPACITY */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX (no such body),
+ *          EDMI_ERR_NONFINITE (n or c), EDMI_ERR_PARAM (n of length 0, or a potential a wall
+ *          does not take: edmi_wall), EDMI_ERR_DISABLED (its kind compiled out, or
+ *          EDMI_MAX_WALLS is 0), EDMI_ERR_CAPACITY */
 edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_real c,
                           const edmi_potential *pot, int *index);
 
@@ -782,7 +792,7 @@ edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_re
  *  system, -Lambda (c_next - c) with Lambda the wall's discrete force V'(g), is added to
  *  edmi_step_result.work_anchor; after the step the wall rests at c_next until moved again.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such wall), EDMI_ERR_NONFINITE,
- *          EDMI_ERR_CAPACITY (walls compiled out) */
+ *          EDMI_ERR_DISABLED (EDMI_MAX_WALLS is 0) */
 edmi_status edmi_move_wall(edmi_system *sys, int w, edmi_real c_next);
 
 /** \brief Couple the masses of bodies a and b: set the off-diagonal entry m_ab = m_ba of the
@@ -844,13 +854,21 @@ edmi_potential edmi_pot_tether(edmi_real k, edmi_real len);
 
 /** \brief Advance the system by dt with its scheme (Newton predictor multi-corrector).
  *  The system changes only when EDMI_OK is returned.
- *  \param[in,out] sys the system; \param[out] work scratch space; \param[in] dt > 0
+ *  \param[in,out] sys the system; \param[in,out] work its workspace; \param[in] dt > 0
  *  \param[out] res what the step did, or NULL
  *  With the guard on (params.guard), the stored state and the tank T (sys->tank) satisfy
  *  H(q_n+1, p_n+1) - H(q_n, p_n) <= res->work_ext + res->work_anchor + T_n - T_n+1 exactly,
- *  with 0 <= T_n+1 <= res->tank_cap (T_n+1 = T_n = 0 when params.tank_cap is 0). With
- *  EDMI_OK means solved to the bound EDMI_SOLVED states, unless res->stop is
- *  EDMI_STOP_FALLBACK. A step that fails once its input is accepted (SINGULAR,
+ *  with 0 <= T_n+1 <= res->tank_cap (T_n+1 = T_n = 0 when params.tank_cap is 0).
+ *  Which outcome to read, and when: the status says whether the step was stored (EDMI_OK)
+ *  or not (any other: the system is as it was; res is zeroed where the input was refused,
+ *  and holds the failed attempt's counts otherwise). After EDMI_OK, res->stop says how:
+ *  every stop but EDMI_STOP_FALLBACK means solved, to the bound EDMI_SOLVED states;
+ *  EDMI_STOP_FALLBACK means the passive fallback state was stored instead
+ *  (params.fallback). res->cause says why a stored step
+ *  was not solved at once (EDMI_OK where it was): the failure that made it take substeps or
+ *  the fallback, res->substeps and res->fallbacks how many of each it stored. A firmware
+ *  reads the status every tick and counts res->stop == EDMI_STOP_FALLBACK; res->cause is for
+ *  diagnosis. A step that fails once its input is accepted (SINGULAR,
  *  NO_CONVERGENCE, DIVERGED, PASSIVITY, RANGE) is split into substeps with
  *  params.substep_levels, and with params.fallback stores the fallback state where that still
  *  fails (res->cause says why, res->substeps and res->fallbacks what was stored).

@@ -22,6 +22,14 @@ static void render_force(long tick, const edmi_real f[3])
         printf("t = %.2f s  force on the hand %+.4f N\n", 1e-3 * (double)tick, (double)f[0]);
 }
 
+/* 1 (and says which call and why) if a set-up call failed. */
+static int failed(const char *call, edmi_status s)
+{
+    if (s != EDMI_OK)
+        printf("%s: %s\n", call, edmi_status_name(s));
+    return s != EDMI_OK;
+}
+
 int main(void)
 {
     const edmi_real zero[3] = {0, 0, 0};
@@ -32,10 +40,14 @@ int main(void)
     long tick;
 
     prm.fallback = 1; /* every tick ends with a passive state, in bounded time */
-    if (!EDMI_CONFIG_MATCHES() || edmi_init(&sys, &prm) != EDMI_OK ||
-        edmi_add_body(&sys, EDMI_R(0.1), zero, zero, &tool) != EDMI_OK ||
-        edmi_add_anchor(&sys, tool, zero, &spring, &link) != EDMI_OK ||
-        edmi_add_damper(&sys, link, EDMI_R(0.5), NULL) != EDMI_OK)
+    if (!EDMI_CONFIG_MATCHES()) {
+        printf("edmi.h here and edmi.c were built with different EDMI_ options\n");
+        return 1;
+    }
+    if (failed("edmi_init", edmi_init(&sys, &prm)) ||
+        failed("edmi_add_body", edmi_add_body(&sys, EDMI_R(0.1), zero, zero, &tool)) ||
+        failed("edmi_add_anchor", edmi_add_anchor(&sys, tool, zero, &spring, &link)) ||
+        failed("edmi_add_damper", edmi_add_damper(&sys, link, EDMI_R(0.5), NULL)))
         return 1;
     for (tick = 1; tick <= 2000; tick++) {
         edmi_step_result res;

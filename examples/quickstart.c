@@ -3,7 +3,7 @@
 #include "edmi.h"
 
 static edmi_system sys;     /* caller-owned memory: the library never allocates */
-static edmi_workspace work; /* Newton scratch space */
+static edmi_workspace work; /* Newton's workspace, kept between steps */
 
 int main(void)
 {

@@ -5,7 +5,12 @@
 #     is that file, byte for byte (the recipes compile because `make` builds the files);
 #  3. each function declaration of README's "Every call it makes" block is edmi.h's, up to
 #     whitespace, and each EDMI_ macro it names is defined there;
-#  4. every relative link in README.md and docs/*.md names an existing file.
+#  4. every relative link in README.md and docs/*.md names an existing file;
+#  5. README's compile lines work as a new user runs them: in a directory holding only edmi.h,
+#     edmi.c and the recipe's program under the name the README gives it, each `cc` line
+#     builds a program that runs and exits 0; the arm-none-eabi-gcc line (where that compiler
+#     is installed) builds an object that needs nothing from outside and whose text is the
+#     Cortex-M4F figure of README's sizing table (16 / 64 / 16).
 # Last line: "N passed, N failed".
 set -u
 pass=0 fail=0
@@ -69,5 +74,46 @@ nl=$(grep -c '^ok$' "$tmp/links"); nb=$(grep -c '^FAIL' "$tmp/links")
 grep '^FAIL' "$tmp/links"
 pass=$((pass + nl)); fail=$((fail + nb))
 echo "ok   $nl relative links in README.md and docs/ name existing files"
+
+# 5. The compile lines, in a directory like a new user's.
+awk '/^```sh$/ { inb = 1; next } /^```$/ && inb { inb = 0; next }
+     inb { if (sub(/\\$/, "")) { buf = buf $0; next } print buf $0; buf = "" }' README.md |
+    grep -E '^(cc|arm-none-eabi-gcc) ' >"$tmp/lines"
+nc=0
+while IFS= read -r line; do
+    u="$tmp/user$nc"
+    nc=$((nc + 1))
+    mkdir -p "$u" && cp edmi.h edmi.c "$u"/
+    for src in $(grep -oE '[a-z_]+\.c' <<<"$line" | grep -v '^edmi\.c$'); do
+        [ -e "examples/$src" ] && cp "examples/$src" "$u/$src"
+    done
+    case $line in
+    cc*)
+        out=$(grep -oE -- '-o [a-z_]+' <<<"$line" | awk '{ print $2 }')
+        if (cd "$u" && eval "$line" >"$tmp/cc.log" 2>&1 && "./$out" >/dev/null); then
+            ok "README's line '${line:0:60}...' builds and runs $out in a directory of the two files and it"
+        else
+            bad "README's line '$line' fails in a directory of the two files and its program: $(head -3 "$tmp/cc.log")"
+        fi ;;
+    arm-none-eabi-gcc*)
+        if ! command -v arm-none-eabi-gcc >/dev/null 2>&1; then
+            echo "skip README's arm-none-eabi-gcc line: the compiler is not installed"
+            continue
+        fi
+        want=$(awk -F'|' '/^\| 16 \/ 64 \/ 16 \|/ { gsub(/ /, "", $3); print $3; exit }' README.md)
+        if (cd "$u" && eval "$line" >"$tmp/cc.log" 2>&1); then
+            text=$(arm-none-eabi-size "$u/edmi.o" | awk 'NR == 2 { print $1 }')
+            undef=$(arm-none-eabi-nm -u "$u/edmi.o" | awk '{ print $2 }' | tr '\n' ' ')
+            if [ "$text" = "$want" ] && [ -z "$undef" ]; then
+                ok "README's Cortex-M4F line: text $text B as its sizing table says, nothing undefined"
+            else
+                bad "README's Cortex-M4F line: text $text B (the table says $want), undefined: ${undef:-none}"
+            fi
+        else
+            bad "README's line '$line' fails: $(head -3 "$tmp/cc.log")"
+        fi ;;
+    esac
+done <"$tmp/lines"
+[ "$nc" -ge 3 ] || bad "README: $nc compile lines found, expected 3 (quickstart, haptic_loop, Cortex-M4F)"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -139,7 +139,7 @@ for real in float double; do
     if [ $ok = 0 ]; then
         echo "FAIL EDMI_MAX_DAMPERS=0 ($real): a build or run failed"; fail=$((fail + 1))
     elif ! grep -q '^add_damper EDMI_OK unchanged 0$' "$tmp/out16" ||
-            ! grep -q '^add_damper EDMI_ERR_CAPACITY unchanged 1$' "$tmp/out0"; then
+            ! grep -q '^add_damper EDMI_ERR_DISABLED unchanged 1$' "$tmp/out0"; then
         echo "FAIL EDMI_MAX_DAMPERS=0 ($real): edmi_add_damper: $(head -1 "$tmp/out0")"
         fail=$((fail + 1))
     elif ! diff <(tail -n +2 "$tmp/out16") <(tail -n +2 "$tmp/out0") > /dev/null; then

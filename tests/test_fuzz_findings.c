@@ -107,10 +107,12 @@ static void tf_outputs(void)
     edmi_real q[3] = {EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)};
     int sw = -3;
     TH_NEEDS(th_has_pot(EDMI_POT_LJ));
-    /* a body on its LJ anchor: the invariants are undefined */
+    /* a body on its LJ anchor (put there after edmi_add_anchor, which refuses it): the
+     * invariants are undefined */
     CHECK(edmi_init(&tf_sys, 0) == EDMI_OK &&
-          edmi_add_body(&tf_sys, EDMI_R(1.0), q, tf_zero3, 0) == EDMI_OK &&
+          edmi_add_body(&tf_sys, EDMI_R(1.0), tf_zero3, tf_zero3, 0) == EDMI_OK &&
           edmi_add_anchor(&tf_sys, 0, q, &lj, 0) == EDMI_OK);
+    tf_sys.body[0].q[0] = q[0];
     memset(&inv, 0x5a, sizeof inv);
     memcpy(&inv0, &inv, sizeof inv);
     CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_ERR_COINCIDENT);

@@ -202,9 +202,10 @@ static void ti_status_names(void)
         "EDMI_ERR_MASS",     "EDMI_ERR_NONFINITE",     "EDMI_ERR_CAPACITY",
         "EDMI_ERR_INDEX",    "EDMI_ERR_PARAM",         "EDMI_ERR_COINCIDENT",
         "EDMI_ERR_SINGULAR", "EDMI_ERR_NO_CONVERGENCE", "EDMI_ERR_DIVERGED",
-        "EDMI_ERR_PASSIVITY", "EDMI_ERR_RANGE",   "EDMI_ERR_DISABLED"};
+        "EDMI_ERR_PASSIVITY", "EDMI_ERR_RANGE",   "EDMI_ERR_DISABLED",
+        "EDMI_ERR_UNINIT"};
     int n = (int)(sizeof want / sizeof want[0]), i, j;
-    CHECK(n == (int)EDMI_ERR_DISABLED + 1);
+    CHECK(n == (int)EDMI_ERR_UNINIT + 1);
     for (i = 0; i < n; i++) {
         const char *s = edmi_status_name((edmi_status)i);
         if (!CHECK(s != 0))
@@ -315,6 +316,20 @@ static void ti_add_body(void)
         TI_EXPECT(edmi_add_body(&ti_sys, EDMI_R(1.0), q, bp, &idx), EDMI_ERR_NONFINITE);
     }
     CHECK(idx == -5); /* the index output is only written on success */
+
+    /* A system edmi_init never set up (zeroed, as a static one is): every builder refuses it
+     * where the mistake is made, the system unchanged. */
+    memset(&ti_sys, 0, sizeof ti_sys);
+    {
+        const edmi_potential h = edmi_pot_harmonic(EDMI_R(1.0), EDMI_R(0.0));
+        const edmi_real n[3] = {0, 0, 1};
+        TI_EXPECT(edmi_add_body(&ti_sys, EDMI_R(1.0), q, p, &idx), EDMI_ERR_UNINIT);
+        TI_EXPECT(edmi_add_anchor(&ti_sys, 0, q, &h, &idx), EDMI_ERR_UNINIT);
+        TI_EXPECT(edmi_add_pair(&ti_sys, 0, 1, &h, &idx), EDMI_ERR_UNINIT);
+        TI_EXPECT(edmi_add_damper(&ti_sys, 0, EDMI_R(1.0), &idx), EDMI_ERR_UNINIT);
+        TI_EXPECT(edmi_add_wall(&ti_sys, 0, n, EDMI_R(0.0), &h, &idx), EDMI_ERR_UNINIT);
+        CHECK(idx == -5);
+    }
 
     /* Capacity: EDMI_MAX_BODIES fit, one more does not. */
     CHECK_STATUS(edmi_init(&ti_sys, 0), EDMI_OK);
@@ -557,8 +572,10 @@ static void ti_step_input(void)
 }
 
 /* Two linked bodies at one point, or a body at its anchor: EDMI_ERR_COINCIDENT before
- * Newton starts, in every scheme (the link direction r/d is undefined at d = 0). Two
- * coincident bodies that are not linked are fine. */
+ * Newton starts, in every scheme (the link direction r/d is undefined at d = 0). The
+ * builders refuse such a link where it is made (the system unchanged); a caller who writes
+ * the positions there afterwards meets the step's refusal. Two coincident bodies that are
+ * not linked are fine. */
 static void ti_coincident(void)
 {
     static const edmi_scheme schemes[6] = {EDMI_MP, EDMI_LG, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
@@ -581,12 +598,17 @@ static void ti_coincident(void)
                         th_has_pot(EDMI_POT_NEO_HOOKE),
                     "coincident: scheme, LJ, neo-Hooke"))
             continue;
-        /* linked pair at one point */
+        /* linked pair at one point: refused by edmi_add_pair, then written by the caller */
         if (!CHECK(edmi_init(&ti_sys, &prm) == EDMI_OK &&
                    edmi_add_body(&ti_sys, EDMI_R(1.0), q, pa, 0) == EDMI_OK &&
-                   edmi_add_body(&ti_sys, EDMI_R(2.0), q, pb, 0) == EDMI_OK &&
-                   edmi_add_pair(&ti_sys, 0, 1, &lj, 0) == EDMI_OK))
+                   edmi_add_body(&ti_sys, EDMI_R(2.0), q, pb, 0) == EDMI_OK))
             continue;
+        TI_EXPECT(edmi_add_pair(&ti_sys, 0, 1, &lj, 0), EDMI_ERR_COINCIDENT);
+        TI_EXPECT(edmi_add_anchor(&ti_sys, 0, q, &nh, 0), EDMI_ERR_COINCIDENT);
+        ti_sys.body[1].q[2] = qo[2];
+        if (!CHECK(edmi_add_pair(&ti_sys, 0, 1, &lj, 0) == EDMI_OK))
+            continue;
+        ti_sys.body[1].q[2] = q[2];
         TI_STEP_INPUT(EDMI_R(1e-3), EDMI_ERR_COINCIDENT);
         for (i = 0; i < 3; i++) {
             q1[0][i] = q[i];

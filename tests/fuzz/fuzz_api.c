@@ -302,7 +302,7 @@ static int fz_finite_n(const edmi_real *x, int n)
 
 static void fz_status(edmi_status st, const char *call)
 {
-    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_DISABLED)
+    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_UNINIT)
         fz_fail("status out of range", call, st);
 }
 
@@ -595,9 +595,17 @@ static int fz_walls_moved(const edmi_system *s)
 
 /* Every link's potential evaluates at its start distance (edmi_pot_eval: every derivative
  * finite, a user potential accepting it): else the start state is input edmi_step refuses. */
+/* The next representable edmi_real after d towards the sign of dir. */
+static edmi_real fz_next(edmi_real d, int dir)
+{
+    if (sizeof(edmi_real) == sizeof(float))
+        return (edmi_real)nextafterf((float)d, dir > 0 ? HUGE_VALF : -HUGE_VALF);
+    return (edmi_real)nextafter((double)d, dir > 0 ? HUGE_VAL : -HUGE_VAL);
+}
+
 static int fz_start_evaluable(const edmi_system *s)
 {
-    int j, i;
+    int j, i, k;
     for (j = 0; j < s->n_links; j++) {
         const edmi_link *lk = &s->link[j];
         const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : s->body[lk->b].q;
@@ -606,8 +614,12 @@ static int fz_start_evaluable(const edmi_system *s)
         for (i = 0; i < 3; i++)
             r[i] = s->body[lk->a].q[i] - xb[i];
         d = (edmi_real)fz_n3l(r);
-        if (d > 0 && edmi_pot_eval(&lk->pot, d, &pp) != EDMI_OK)
-            return 0;
+        /* the library forms |r| in working precision, within two units of the correctly
+         * rounded d: a start it refuses at its own d (a user potential's domain ending
+         * there) is refused input too (float: d = 214 here, 214 + 1 ulp there) */
+        for (d = fz_next(fz_next(d, -1), -1), k = 0; k < 5; k++, d = fz_next(d, 1))
+            if (d > 0 && edmi_pot_eval(&lk->pot, d, &pp) != EDMI_OK)
+                return 0;
     }
     return 1;
 }
