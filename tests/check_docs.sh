@@ -10,7 +10,10 @@
 #     edmi.c and the recipe's program under the name the README gives it, each `cc` line
 #     builds a program that runs and exits 0; the arm-none-eabi-gcc line (where that compiler
 #     is installed) builds an object that needs nothing from outside and whose text is the
-#     Cortex-M4F figure of README's sizing table (16 / 64 / 16).
+#     Cortex-M4F figure of README's sizing table (16 / 64 / 16);
+#  6. docs/simulator.md's float figures for the spring are what build/float/edmi-sim prints,
+#     and edmi-sim names an unknown option in one line;
+#  7. no page or example says that H never grows (it may, within the tank).
 # Last line: "N passed, N failed".
 set -u
 pass=0 fail=0
@@ -115,5 +118,40 @@ while IFS= read -r line; do
     esac
 done <"$tmp/lines"
 [ "$nc" -ge 3 ] || bad "README: $nc compile lines found, expected 3 (quickstart, haptic_loop, Cortex-M4F)"
+
+# 7. What the guard promises, said as it is: H may rise within the tank, so no program or page
+#    says H never grows.
+if grep -rn "never grows" README.md docs/*.md examples/*.c >"$tmp/grows"; then
+    bad "'never grows' (H may rise within the tank): $(head -2 "$tmp/grows")"
+else
+    ok "no page or example says H never grows"
+fi
+
+# 6. docs/simulator.md's float figures: the spring with PM, with the guard and without.
+if make -s sim EDMI_REAL=float >"$tmp/sim.log" 2>&1; then
+    sim="build/float/edmi-sim examples/scenes/neo_hookean.scene"
+    on=$($sim 2>&1); off=$($sim --guard off 2>&1)
+    f_on=$(awk '/^\|H-H0\|/ { sub(/,$/, "", $3); print $3 }' <<<"$on")
+    f_off=$(awk '/^\|H-H0\|/ { sub(/,$/, "", $3); print $3 }' <<<"$off")
+    moved=$(awk '/^guard/ { print $5 }' <<<"$on")
+    rose=$(awk '/^H steps/ { print $6 }' <<<"$on")
+    want="10,000 steps (H−H0)/|H0| = $f_on with the guard (2.000 iterations per step; it changed
+  $moved steps, and H rose within the tank on $rose others) and $f_off with \`--guard off\`"
+    if grep -qF -- "$want" docs/simulator.md; then
+        ok "docs/simulator.md's float spring: $f_on with the guard ($moved steps changed), $f_off without, as build/float/edmi-sim gives"
+    else
+        bad "docs/simulator.md's float spring figures differ from build/float/edmi-sim's: $f_on, $moved steps changed, $rose rises in the tank; $f_off with --guard off"
+    fi
+    # an unknown option: one line saying so, and where the options are (not the whole usage)
+    build/float/edmi-sim examples/scenes/neo_hookean.scene --bogus >/dev/null 2>"$tmp/bogus"
+    rc=$?
+    if [ "$rc" = 2 ] && [ "$(wc -l <"$tmp/bogus")" -le 2 ] && grep -q "unknown option '--bogus'" "$tmp/bogus"; then
+        ok "edmi-sim names an unknown option in one line and exits 2"
+    else
+        bad "edmi-sim --bogus: exit $rc, $(wc -l <"$tmp/bogus") lines: $(head -2 "$tmp/bogus")"
+    fi
+else
+    bad "make sim EDMI_REAL=float failed: $(tail -3 "$tmp/sim.log")"
+fi
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -110,11 +110,12 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* A bad command line: what is wrong, in one line, and where the options are listed. */
 static void usage_error(const char *fmt, const char *a, const char *b)
 {
     fprintf(stderr, "edmi-sim: ");
     fprintf(stderr, fmt, a, b);
-    fprintf(stderr, "\n%s", usage_text);
+    fprintf(stderr, "\n(edmi-sim --help lists the options)\n");
     exit(2);
 }
 
