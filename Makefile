@@ -240,12 +240,19 @@ $(BUILD)/mass_spd-%/mass_spd: $(MASS_SPD_SRC) tests/host_io.c tests/harness.h ed
 	$(CC) $(LIBFLAGS) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
 	    -DEDMI_REAL=$* $(MASS_SPD_CFG) -I. $(MASS_SPD_SRC) tests/host_io.c edmi.c -o $@ $(LDLIBS)
 
+# The worked user potential (examples/morse.c): its callbacks checked as the built-ins are, and
+# its runs' energy and momenta, in both precisions (morse --check).
+MORSE_BINS := $(BUILD)/morse-double/morse $(BUILD)/morse-float/morse
+$(BUILD)/morse-%/morse: examples/morse.c edmi.c edmi.h
+	mkdir -p $(@D)
+	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* -I. examples/morse.c edmi.c -o $@ $(LDLIBS)
+
 # Leak detection is off: nothing allocates, and LeakSanitizer fails under some containers.
 test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLAY_BINS) $(BAND_BINS) \
-      $(MASS_BINS) $(MASS_SPD_BINS) $(FEAT_BINS)
+      $(MASS_BINS) $(MASS_SPD_BINS) $(FEAT_BINS) $(MORSE_BINS)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
 	bash tests/run_all.sh $(TEST_BINS) $(FEAT_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(SIM_REF_TESTS) \
-	    $(BAND_RUNS) $(MASS_BINS) $(MASS_SPD_BINS) \
+	    $(BAND_RUNS) $(MASS_BINS) $(MASS_SPD_BINS) $(foreach b,$(MORSE_BINS),'$(b) --check') \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
 	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)') \
 	    'bash tests/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/check_flags.sh clang') \
