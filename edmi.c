@@ -36,12 +36,16 @@
  *                                 splits, divided differences, double-word values, the public
  *                                 constructors and evaluators (a new potential's code is here)
  *   The paper's algorithmic forces  beta and Lambda per scheme, and their tangents
- *   The mass matrix               M's products and its Cholesky factor (EDMI_MAX_MASS_GAP > 0)
+ *   The mass matrix               M's products, its Cholesky factor and solves with it, the
+ *                                 residual of M x = s in double-word (EDMI_MAX_MASS_GAP > 0)
  *   Residual and consistent tangent  links, then each effect (dampers, ports, the field)
  *   Linear solves                 3x3, one link, two bodies, banded LU; the Newton update
  *   Newton                        scales, the solved test, the predictor multi-corrector
  *   The passivity guard           the change of H and its bound, the energy tank, the
- *                                 certificate, the rounding, impulse, drag and stop, a step's end
+ *                                 certificate, the rounding, impulse, drag and stop, the choice
+ *                                 of moves
+ *   A step's end                  the end checks, works and forces, the energy balance and the
+ *                                 guard's verdict (edmi__finish), the fallback state (freeze)
  *   One attempt, the fallback and substeps
  *   The step                      edmi_step, edmi_residual, edmi_tangent
  *   Building a system, and scenes the validator, edmi_init, edmi_add_*, edmi_load_scene
@@ -1595,6 +1599,55 @@ static void edmi__mass_residual(const edmi_system *sys, const edmi_real (*q1)[3]
 #endif
 }
 
+#if EDMI_MAX_MASS_GAP > 0
+/* Solve M x = b (3 columns, x and b laid out [3 a + c]) with the band Cholesky factor L of M
+ * in f (row a at f[a (g + 1)], its column j at index j - a + g): forward, then backward. */
+static void edmi__mass_solve(const edmi_real *f, int n, int g, const edmi_real *b, edmi_real *x)
+{
+    int a, j, c;
+    for (a = 0; a < n; a++) {
+        const edmi_real *la = f + a * (g + 1);
+        int lo = a - g > 0 ? a - g : 0;
+        for (c = 0; c < 3; c++) {
+            edmi_real t = b[3 * a + c];
+            for (j = lo; j < a; j++)
+                t -= la[j - a + g] * x[3 * j + c];
+            x[3 * a + c] = t / la[g];
+        }
+    }
+    for (a = n - 1; a >= 0; a--)
+        for (c = 0; c < 3; c++) {
+            edmi_real t = x[3 * a + c];
+            for (j = a + 1; j <= a + g && j < n; j++)
+                t -= f[j * (g + 1) + (a - j + g)] * x[3 * j + c];
+            x[3 * a + c] = t / f[a * (g + 1) + g];
+        }
+}
+
+/* rho = s - M (x + y) for body a, component c, in double-word (the products exact), and the
+ * sum of the magnitudes of its terms. s = s_hi + s_lo exactly; y may be NULL. */
+static edmi__dw edmi__mass_residual_dw(const edmi_system *sys, int a, int c, edmi__dw s,
+                                       const edmi_real *x, const edmi_real *y, edmi_real *mag)
+{
+    int b, g = EDMI_MAX_MASS_GAP;
+    edmi__dw r = s;
+    *mag = edmi__abs(s.hi);
+    for (b = a - g; b <= a + g; b++) {
+        edmi_real m;
+        if (b < 0 || b >= sys->n_bodies)
+            continue;
+        m = b == a ? sys->body[a].m : edmi__mass_ab(sys, a, b);
+        r = edmi__dw_sub(r, edmi__two_prod(m, x[3 * b + c]));
+        *mag += edmi__abs(m * x[3 * b + c]);
+        if (y) {
+            r = edmi__dw_sub(r, edmi__two_prod(m, y[3 * b + c]));
+            *mag += edmi__abs(m * y[3 * b + c]);
+        }
+    }
+    return r;
+}
+#endif
+
 /* ==========================================================================================
  * Residual and consistent tangent
  *
@@ -2877,8 +2930,8 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
  *  3. only if the tank cannot cover the rise: the guard moves the state (an impulse along a
  *     link, energy-aware rounding, a drag) to one whose rise it covers, one ordered list.
  * The subsections follow that order: the change of H and its bound, the tank, the
- * certificate, the rounding, impulse, drag and stop, the moves, and the end of a step that applies
- * them.
+ * certificate, the rounding, impulse, drag and stop, and the choice of moves (edmi__guard_move).
+ * The next section, a step's end, applies them.
  * ======================================================================================== */
 
 static int edmi__guard_on(const edmi_params *p)
@@ -3484,53 +3537,6 @@ static edmi_status edmi__delta_v(const edmi_system *sys, edmi_workspace *work,
 }
 
 #if EDMI_MAX_MASS_GAP > 0
-/* Solve M x = b (3 columns, x and b laid out [3 a + c]) with the band Cholesky factor L of M
- * in f (row a at f[a (g + 1)], its column j at index j - a + g): forward, then backward. */
-static void edmi__mass_solve(const edmi_real *f, int n, int g, const edmi_real *b, edmi_real *x)
-{
-    int a, j, c;
-    for (a = 0; a < n; a++) {
-        const edmi_real *la = f + a * (g + 1);
-        int lo = a - g > 0 ? a - g : 0;
-        for (c = 0; c < 3; c++) {
-            edmi_real t = b[3 * a + c];
-            for (j = lo; j < a; j++)
-                t -= la[j - a + g] * x[3 * j + c];
-            x[3 * a + c] = t / la[g];
-        }
-    }
-    for (a = n - 1; a >= 0; a--)
-        for (c = 0; c < 3; c++) {
-            edmi_real t = x[3 * a + c];
-            for (j = a + 1; j <= a + g && j < n; j++)
-                t -= f[j * (g + 1) + (a - j + g)] * x[3 * j + c];
-            x[3 * a + c] = t / f[a * (g + 1) + g];
-        }
-}
-
-/* rho = s - M (x + y) for body a, component c, in double-word (the products exact), and the
- * sum of the magnitudes of its terms. s = s_hi + s_lo exactly; y may be NULL. */
-static edmi__dw edmi__mass_residual_dw(const edmi_system *sys, int a, int c, edmi__dw s,
-                                       const edmi_real *x, const edmi_real *y, edmi_real *mag)
-{
-    int b, g = EDMI_MAX_MASS_GAP;
-    edmi__dw r = s;
-    *mag = edmi__abs(s.hi);
-    for (b = a - g; b <= a + g; b++) {
-        edmi_real m;
-        if (b < 0 || b >= sys->n_bodies)
-            continue;
-        m = b == a ? sys->body[a].m : edmi__mass_ab(sys, a, b);
-        r = edmi__dw_sub(r, edmi__two_prod(m, x[3 * b + c]));
-        *mag += edmi__abs(m * x[3 * b + c]);
-        if (y) {
-            r = edmi__dw_sub(r, edmi__two_prod(m, y[3 * b + c]));
-            *mag += edmi__abs(m * y[3 * b + c]);
-        }
-    }
-    return r;
-}
-
 /* dk = K(p1) - K(p_n) = 1/2 d . M^-1 s (d = p1 - p_n, s = p1 + p_n, both exact double-words,
  * times bal->scale) for a coupled M. x + y ~ M^-1 s, held as two working-precision vectors:
  * x from M's band Cholesky factor (in work->mat, free once Newton is done), y =
@@ -4564,7 +4570,14 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
     return EDMI_OK;
 }
 
-/* ---- a step's end, its energy balance and the guard's verdict --------------------------- */
+/* ==========================================================================================
+ * A step's end
+ *
+ * After Newton: the end state checked as the next step's start (links and walls), the works
+ * and forces (edmi__step_work), the energy balance with the guard's verdict and moves
+ * (edmi__finish), and the fallback state a step stores where it cannot be solved
+ * (edmi__freeze, passive by construction).
+ * ======================================================================================== */
 
 /* A link's end state is one the next step starts from (edmi__prepare_links): a distance
  * > 0 (or 0 on a linear spring), a user potential that accepts it, and V and V' finite there.
