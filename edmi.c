@@ -1478,22 +1478,23 @@ static edmi_real edmi__off_scene(const void *ctx, int a, int b)
 
 /* Cholesky M - shift I = L L^T row by row (M's diagonal from body[], its off-diagonal masses
  * from off), L's rows within the gap G kept in a ring of G + 1 rows (row r in
- * ring[r % (G + 1)], its column i at index i - r + G). With k, also the forward substitution
+ * ring[r % (G + 1)], its column i at index i - r + G), or with band, all n rows there (row r
+ * at band[r (G + 1)], as edmi__mass_solve reads it). With k, also the forward substitution
  * y = L^-1 p of the bodies' momenta (per component) and *k = 1/2 |y|^2 = 1/2 p . M^-1 p; with
  * dmin, the smallest pivot (L_aa^2). Returns 0 if a pivot is not positive or not finite. */
 static int edmi__cholesky(int n, const edmi_body *body, edmi__off_fn off, const void *ctx,
                           const edmi_real (*p)[3], edmi_real *k, edmi_real shift,
-                          edmi_real *dmin)
+                          edmi_real *dmin, edmi_real *band)
 {
     edmi_real ring[EDMI_MAX_MASS_GAP + 1][EDMI_MAX_MASS_GAP + 1], y[EDMI_MAX_MASS_GAP + 1][3];
     const int g = EDMI_MAX_MASS_GAP, w = EDMI_MAX_MASS_GAP + 1;
     edmi_real kin = EDMI__ZERO;
     int a, i, j, c;
     for (a = 0; a < n; a++) {
-        edmi_real *la = ring[a % w], d = body[a].m - shift;
+        edmi_real *la = band ? band + a * w : ring[a % w], d = body[a].m - shift;
         int lo = a - g > 0 ? a - g : 0;
         for (j = lo; j < a; j++) {
-            const edmi_real *lj = ring[j % w];
+            const edmi_real *lj = band ? band + j * w : ring[j % w];
             edmi_real x = off(ctx, a, j);
             for (i = lo; i < j; i++)
                 x -= la[i - a + g] * lj[i - j + g];
@@ -1521,7 +1522,7 @@ static int edmi__cholesky(int n, const edmi_body *body, edmi__off_fn off, const 
 
 static int edmi__mass_cholesky(const edmi_system *sys, edmi_real *k)
 {
-    return edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys, 0, k, EDMI__ZERO, 0);
+    return edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys, 0, k, EDMI__ZERO, 0, 0);
 }
 
 /* A lower bound on M's smallest eigenvalue, proved in floating point (Rump, "Verification of
@@ -1538,14 +1539,14 @@ static edmi_real edmi__mass_lambda_min(int n, const edmi_body *body, edmi__off_f
 {
     edmi_real dmin = EDMI__ZERO, tr = EDMI__ZERO, mmax = EDMI__ZERO, s, lam;
     int a, k;
-    if (!edmi__cholesky(n, body, off, ctx, 0, 0, EDMI__ZERO, &dmin))
+    if (!edmi__cholesky(n, body, off, ctx, 0, 0, EDMI__ZERO, &dmin, 0))
         return EDMI__ZERO;
     for (a = 0; a < n; a++) {
         tr += body[a].m;
         mmax = edmi__max(mmax, body[a].m);
     }
     for (k = 1, s = EDMI__HALF * dmin; k <= 13; k += 4, s *= EDMI_R(0.0625)) {
-        if (!edmi__cholesky(n, body, off, ctx, 0, 0, s, 0))
+        if (!edmi__cholesky(n, body, off, ctx, 0, 0, s, 0, 0))
             continue;
         lam = (s - (edmi_real)(n + 2) * EDMI_EPS * tr - EDMI_EPS * mmax -
                (edmi_real)((n + 1) * (n + 1)) * EDMI_R(1024.0) * EDMI__REAL_MIN) *
@@ -3553,20 +3554,8 @@ static void edmi__delta_k_coupled(const edmi_system *sys, edmi_workspace *work,
     edmi_real lam = edmi__mass_lambda_min(n, sys->body, edmi__off_sys, sys);
     edmi_real nd = EDMI__ZERO, nr = EDMI__ZERO, mag_d = EDMI__ZERO;
     edmi_real nfac = EDMI__ONE + EDMI_R(8.0) * (edmi_real)(3 * n + 2 * g + 2) * EDMI_EPS;
-    /* the factor, row by row */
-    for (a = 0; a < n; a++) {
-        edmi_real *la = f + a * (g + 1), d = sys->body[a].m;
-        int lo = a - g > 0 ? a - g : 0, j, i;
-        for (j = lo; j < a; j++) {
-            const edmi_real *lj = f + j * (g + 1);
-            edmi_real t = edmi__mass_ab(sys, a, j);
-            for (i = lo; i < j; i++)
-                t -= la[i - a + g] * lj[i - j + g];
-            la[j - a + g] = t / lj[g];
-            d -= la[j - a + g] * la[j - a + g];
-        }
-        la[g] = EDMI_SQRT(d > EDMI__ZERO ? d : EDMI__ONE); /* validated positive definite */
-    }
+    /* the whole factor (M was validated positive definite: its pivots are) */
+    (void)edmi__cholesky(n, sys->body, edmi__off_sys, sys, 0, 0, EDMI__ZERO, 0, f);
     for (a = 0; a < n; a++)
         for (c = 0; c < 3; c++)
             y[3 * a + c] = (p1[a][c] + sys->body[a].p[c]) * k;
@@ -4197,7 +4186,7 @@ static int edmi__guard_drag(const edmi_system *sys, edmi_workspace *work, edmi_r
             for (i = 0; i < 3; i++)
                 work->dp[a][i] = work->p1[a][i] - edmi__mass_row(sys, a) * v[i];
         if (!edmi__cholesky(sys->n_bodies, sys->body, edmi__off_sys, sys,
-                            (const edmi_real (*)[3])work->dp, &krel, EDMI__ZERO, 0))
+                            (const edmi_real (*)[3])work->dp, &krel, EDMI__ZERO, 0, 0))
             return 0;
     }
 #endif
