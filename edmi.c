@@ -408,11 +408,27 @@ static EDMI__INLINE edmi__dw edmi__dw_mul(edmi__dw x, edmi__dw y)
 }
 
 #if EDMI_WITH_NEO_HOOKE || EDMI_WITH_LJ || EDMI_WITH_INVERSE /* their V in double-word */
+/* x / y (JMP's DWDivDW1). A numerator below 2^(2p) REAL_MIN (p the precision's bits) is scaled
+ * up by 2^(2p) first, and the quotient back down, both exactly (but for a subnormal result's
+ * last unit, which EDMI__DW_TINY covers): the residual x - y q would otherwise fall below the
+ * normal range, where TwoProd loses bits that the division by y then magnifies beyond the
+ * error bound (a potential's tiny coefficient over a small length; docs/testing.md). */
+#define EDMI__DIV_UP (EDMI_R(4.0) / (EDMI_EPS * EDMI_EPS)) /* 2^(2p) */
 static edmi__dw edmi__dw_div(edmi__dw x, edmi__dw y)
 {
-    edmi_real th = x.hi / y.hi;
-    edmi__dw r = edmi__dw_mul_r(y, th);
-    return edmi__fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
+    edmi_real th, k = EDMI__ONE;
+    edmi__dw r, q;
+    if (edmi__abs(x.hi) < EDMI__REAL_MIN * EDMI__DIV_UP) {
+        x.hi *= EDMI__DIV_UP;
+        x.lo *= EDMI__DIV_UP;
+        k = EDMI__ONE / EDMI__DIV_UP;
+    }
+    th = x.hi / y.hi;
+    r = edmi__dw_mul_r(y, th);
+    q = edmi__fast_two_sum(th, ((x.hi - r.hi) + (x.lo - r.lo)) / y.hi);
+    q.hi *= k;
+    q.lo *= k;
+    return q;
 }
 #endif
 
