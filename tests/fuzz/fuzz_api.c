@@ -594,7 +594,8 @@ static int fz_walls_moved(const edmi_system *s)
 }
 
 /* Every link's potential evaluates at its start distance (edmi_pot_eval: every derivative
- * finite, a user potential accepting it): else the start state is input edmi_step refuses. */
+ * finite, a user potential accepting it), and every wall's at its start gap: else the start
+ * state is input edmi_step refuses. */
 /* The next representable edmi_real after d towards the sign of dir. */
 static edmi_real fz_next(edmi_real d, int dir)
 {
@@ -621,6 +622,30 @@ static int fz_start_evaluable(const edmi_system *s)
             if (d > 0 && edmi_pot_eval(&lk->pot, d, &pp) != EDMI_OK)
                 return 0;
     }
+#if EDMI_MAX_WALLS > 0
+    /* every wall's V and V' at its start gap (in long double) well inside the range: else the
+     * library, which forms them in working precision, may refuse the start (float: a field of
+     * 1.7e25 pressed a body 1e13 into a harmonic wall) */
+    for (j = 0; j < s->n_walls && j < EDMI_MAX_WALLS; j++) {
+        const edmi_wall *wl = &s->wall[j];
+        long double g = -(long double)wl->c, x, v, dv;
+        for (i = 0; i < 3; i++)
+            g += (long double)wl->n[i] * (long double)s->body[wl->a].q[i];
+        x = g - (long double)wl->pot.b;
+        if (wl->pot.kind == EDMI_POT_CONTACT)
+            x = -x;
+        if (wl->pot.kind == EDMI_POT_HARMONIC) {
+            v = 0.5L * (long double)wl->pot.a * x * x;
+            dv = (long double)wl->pot.a * x;
+        } else {
+            x = x > 0.0L ? x : 0.0L;
+            v = (long double)wl->pot.a * x * x * x / 3.0L;
+            dv = (long double)wl->pot.a * x * x;
+        }
+        if (!(fabsl(v) < 0.5L * (long double)EDMI_REAL_MAX && fabsl(dv) < 0.5L * (long double)EDMI_REAL_MAX))
+            return 0;
+    }
+#endif
     return 1;
 }
 
