@@ -5605,7 +5605,7 @@ static edmi_status edmi__validate_system(const edmi_system *sys)
 {
     edmi_status st;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     if (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies, edmi__max_gap(sys)))
         return EDMI_ERR_CAPACITY;
     st = edmi__params_valid(&sys->params);
@@ -5687,7 +5687,7 @@ edmi_status edmi_set_params(edmi_system *sys, const edmi_params *params)
     if (st != EDMI_OK)
         return st;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     sys->params = *params;
     return EDMI_OK;
 }
@@ -5733,7 +5733,9 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
     st = edmi__body_valid(m, q, p);
     if (st != EDMI_OK)
         return st;
-    if (!edmi__counts_valid(sys) || sys->n_bodies >= EDMI_MAX_BODIES ||
+    if (!edmi__counts_valid(sys))
+        return EDMI_ERR_CORRUPT;
+    if (sys->n_bodies >= EDMI_MAX_BODIES ||
         (EDMI__MATRIX_BOUNDED && !edmi__matrix_fits(sys->n_bodies + 1, edmi__max_gap(sys))))
         return EDMI_ERR_CAPACITY;
     bd = &sys->body[sys->n_bodies];
@@ -5793,7 +5795,7 @@ static edmi_status edmi__add_link(edmi_system *sys, int a, int b, const edmi_rea
     if (!edmi__set_up(sys))
         return EDMI_ERR_UNINIT;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     st = edmi__link_valid(sys->n_bodies, a, b, pot, x ? x : origin);
     if (st != EDMI_OK)
         return st;
@@ -5839,7 +5841,7 @@ edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3])
     if (!edmi__finite3(g))
         return EDMI_ERR_NONFINITE;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     edmi__copy3(g, sys->g);
     sys->has_field = 1;
     return EDMI_OK;
@@ -5853,7 +5855,7 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
     if (!edmi__set_up(sys))
         return EDMI_ERR_UNINIT;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     st = edmi__damper_valid(sys->n_links, link, c);
     if (st != EDMI_OK)
         return st;
@@ -5878,7 +5880,7 @@ edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_re
     if (!edmi__set_up(sys))
         return EDMI_ERR_UNINIT;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
 #if EDMI_MAX_WALLS > 0
     {
         edmi_status st = edmi__wall_valid(sys->n_bodies, a, n, c, pot);
@@ -5904,7 +5906,7 @@ edmi_status edmi_move_wall(edmi_system *sys, int w, edmi_real c_next)
     if (!sys)
         return EDMI_ERR_NULL;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
 #if EDMI_MAX_WALLS > 0
     if (w < 0 || w >= sys->n_walls)
         return EDMI_ERR_INDEX;
@@ -5926,7 +5928,7 @@ edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_a
     if (!sys)
         return EDMI_ERR_NULL;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     if (a < 0 || b < 0 || a >= sys->n_bodies || b >= sys->n_bodies || a == b)
         return EDMI_ERR_INDEX;
     if (!edmi__finite(m_ab))
@@ -5962,7 +5964,7 @@ edmi_status edmi_set_tank(edmi_system *sys, edmi_real t)
     if (t < EDMI__ZERO)
         return EDMI_ERR_PARAM;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     if (t > EDMI__ZERO && !(sys->params.tank_cap > EDMI__ZERO))
         return EDMI_ERR_PARAM; /* the per-step form keeps no tank */
     sys->tank = t;
@@ -5975,7 +5977,7 @@ edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3])
     if (!sys || !x)
         return EDMI_ERR_NULL;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     if (link < 0 || link >= sys->n_links || sys->link[link].b != EDMI_ANCHOR)
         return EDMI_ERR_INDEX;
     if (!edmi__finite3(x))
@@ -5998,7 +6000,7 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
     if (!EDMI_WITH_PORTS)
         return EDMI_ERR_DISABLED;
     if (!edmi__counts_valid(sys))
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     if (a < 0 || a >= sys->n_bodies)
         return EDMI_ERR_INDEX;
     if (!edmi__finite3(f))
@@ -6226,6 +6228,7 @@ const char *edmi_status_name(edmi_status s)
     case EDMI_ERR_RANGE: return "EDMI_ERR_RANGE";
     case EDMI_ERR_DISABLED: return "EDMI_ERR_DISABLED";
     case EDMI_ERR_UNINIT: return "EDMI_ERR_UNINIT";
+    case EDMI_ERR_CORRUPT: return "EDMI_ERR_CORRUPT";
     default: return "EDMI_ERR_UNKNOWN";
     }
 }

@@ -289,7 +289,8 @@ typedef enum edmi_status {
     EDMI_ERR_DT,             /*!< dt <= 0 or not finite */
     EDMI_ERR_MASS,           /*!< a mass <= 0 or not finite */
     EDMI_ERR_NONFINITE,      /*!< a position, momentum, anchor or parameter is not finite */
-    EDMI_ERR_CAPACITY,       /*!< EDMI_MAX_BODIES or EDMI_MAX_LINKS would be exceeded */
+    EDMI_ERR_CAPACITY,       /*!< a capacity (EDMI_MAX_BODIES, _LINKS, _DAMPERS, _WALLS, the
+                                  Newton matrix's EDMI_MAX_MATRIX) would be exceeded */
     EDMI_ERR_INDEX,          /*!< a body index is out of range, or a link ties a body to itself */
     EDMI_ERR_PARAM,          /*!< an invalid potential parameter, scheme, option or tolerance */
     EDMI_ERR_COINCIDENT,     /*!< two linked bodies (or a body and its anchor) at distance 0 */
@@ -311,9 +312,12 @@ typedef enum edmi_status {
                                   where EDMI_MAX_DAMPERS or EDMI_MAX_WALLS is 0); checked after
                                   the pointers, counts and values: an invalid potential of a
                                   kind compiled out is EDMI_ERR_PARAM */
-    EDMI_ERR_UNINIT          /*!< a builder (edmi_add_*) was given a system that edmi_init()
+    EDMI_ERR_UNINIT,         /*!< a builder (edmi_add_*) was given a system that edmi_init()
                                   or edmi_load_scene() did not set up: its params are not
                                   valid */
+    EDMI_ERR_CORRUPT         /*!< a count in sys (n_bodies, n_links, n_dampers, n_walls,
+                                  n_forced, n_moving) is out of range: the caller overwrote
+                                  it. Every call that reads sys checks the counts first */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */
@@ -738,16 +742,14 @@ edmi_params edmi_default_params(void);
 edmi_status edmi_init(edmi_system *sys, const edmi_params *params);
 
 /** \brief Replace the parameters (e.g. switch scheme between steps).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM, EDMI_ERR_CAPACITY (a count in sys out of
- *          range: every call that reads sys checks n_bodies, n_links, n_dampers, n_forced
- *          and n_moving first) */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM, EDMI_ERR_CORRUPT */
 edmi_status edmi_set_params(edmi_system *sys, const edmi_params *params);
 
 /** \brief Append a body.
  *  \param[in] m mass > 0; \param[in] q position; \param[in] p momentum
  *  \param[out] index the new body's index, or NULL
  *  \return EDMI_OK, EDMI_ERR_NULL (sys, q or p), EDMI_ERR_UNINIT (sys not set up by
- *          edmi_init()), EDMI_ERR_MASS, EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
+ *          edmi_init()), EDMI_ERR_MASS, EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY, EDMI_ERR_CORRUPT */
 edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
                           const edmi_real p[3], int *index);
 
@@ -755,26 +757,26 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX, EDMI_ERR_PARAM,
  *          EDMI_ERR_NONFINITE, EDMI_ERR_COINCIDENT (the two bodies at one point and a
  *          potential not defined at distance 0: every one but harmonic of rest length 0),
- *          EDMI_ERR_CAPACITY */
+ *          EDMI_ERR_CAPACITY, EDMI_ERR_CORRUPT */
 edmi_status edmi_add_pair(edmi_system *sys, int a, int b, const edmi_potential *pot,
                           int *index);
 
 /** \brief Tie body a to the fixed point x with a potential of the distance ||q_a - x||.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX, EDMI_ERR_PARAM,
  *          EDMI_ERR_NONFINITE, EDMI_ERR_COINCIDENT (x at the body and a potential not
- *          defined at distance 0), EDMI_ERR_CAPACITY */
+ *          defined at distance 0), EDMI_ERR_CAPACITY, EDMI_ERR_CORRUPT */
 edmi_status edmi_add_anchor(edmi_system *sys, int a, const edmi_real x[3],
                             const edmi_potential *pot, int *index);
 
 /** \brief Set a uniform field: every body feels the constant force m g (adds V = -sum m g.q).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE, EDMI_ERR_CORRUPT */
 edmi_status edmi_set_field(edmi_system *sys, const edmi_real g[3]);
 
 /** \brief Put a linear viscous damper on a link: it pushes the link's ends apart or together
  *  with c times their relative speed along the link (dissipative, conserves L, J and C).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX (no such link),
  *          EDMI_ERR_PARAM (c < 0 or not finite), EDMI_ERR_DISABLED (EDMI_MAX_DAMPERS is 0),
- *          EDMI_ERR_CAPACITY */
+ *          EDMI_ERR_CAPACITY, EDMI_ERR_CORRUPT */
 edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index);
 
 /** \brief Put body a against the plane n.x = c (n need not be unit: it is stored normalised)
@@ -783,7 +785,7 @@ edmi_status edmi_add_damper(edmi_system *sys, int link, edmi_real c, int *index)
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_UNINIT, EDMI_ERR_INDEX (no such body),
  *          EDMI_ERR_NONFINITE (n or c), EDMI_ERR_PARAM (n of length 0, or a potential a wall
  *          does not take: edmi_wall), EDMI_ERR_DISABLED (its kind compiled out, or
- *          EDMI_MAX_WALLS is 0), EDMI_ERR_CAPACITY */
+ *          EDMI_MAX_WALLS is 0), EDMI_ERR_CAPACITY, EDMI_ERR_CORRUPT */
 edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_real c,
                           const edmi_potential *pot, int *index);
 
@@ -792,7 +794,7 @@ edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_re
  *  system, -Lambda (c_next - c) with Lambda the wall's discrete force V'(g), is added to
  *  edmi_step_result.work_anchor; after the step the wall rests at c_next until moved again.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such wall), EDMI_ERR_NONFINITE,
- *          EDMI_ERR_DISABLED (EDMI_MAX_WALLS is 0) */
+ *          EDMI_ERR_DISABLED (EDMI_MAX_WALLS is 0), EDMI_ERR_CORRUPT */
 edmi_status edmi_move_wall(edmi_system *sys, int w, edmi_real c_next);
 
 /** \brief Couple the masses of bodies a and b: set the off-diagonal entry m_ab = m_ba of the
@@ -815,8 +817,8 @@ edmi_status edmi_set_mass_coupling(edmi_system *sys, int a, int b, edmi_real m_a
  *  restores it with a saved state. The guard lets a later step spend what the tank holds
  *  (at most its capacity after that step).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_NONFINITE, EDMI_ERR_PARAM (t < 0, or t > 0 with
- *          params.tank_cap 0: the per-step form keeps no tank), EDMI_ERR_CAPACITY (a count in
- *          sys out of range); on any error sys is unchanged */
+ *          params.tank_cap 0: the per-step form keeps no tank), EDMI_ERR_CORRUPT; on any
+ *          error sys is unchanged */
 edmi_status edmi_set_tank(edmi_system *sys, edmi_real t);
 
 /** \brief Move the anchor of link `link` during the next step: it goes from its current
@@ -824,12 +826,12 @@ edmi_status edmi_set_tank(edmi_system *sys, edmi_real t);
  *  The work this motion does on the system is reported in edmi_step_result.work_anchor and
  *  the guard's inequality includes it. Call again before every step the anchor moves in.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX (no such link, or not an anchor link),
- *          EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
+ *          EDMI_ERR_NONFINITE, EDMI_ERR_CORRUPT */
 edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3]);
 
 /** \brief Set body a's external force port; the force is held constant over each step until
  *  set again (its work F . (q_n+1 - q_n) is reported in edmi_step_result.work_ext).
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_NONFINITE, EDMI_ERR_CAPACITY */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_INDEX, EDMI_ERR_NONFINITE, EDMI_ERR_CORRUPT */
 edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3]);
 
 /** \brief Replace the system by a scene (t = 0, no force ports). Everything is validated
@@ -873,7 +875,8 @@ edmi_potential edmi_pot_tether(edmi_real k, edmi_real len);
  *  params.substep_levels, and with params.fallback stores the fallback state where that still
  *  fails (res->cause says why, res->substeps and res->fallbacks what was stored).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
- *          EDMI_ERR_CAPACITY (corrupted counts), EDMI_ERR_INDEX, EDMI_ERR_PARAM,
+ *          EDMI_ERR_CORRUPT, EDMI_ERR_CAPACITY (the Newton matrix store outgrown),
+ *          EDMI_ERR_INDEX, EDMI_ERR_PARAM,
  *          EDMI_ERR_COINCIDENT, EDMI_ERR_RANGE (the start state's potentials beyond the
  *          range): the input refused; without params.fallback also EDMI_ERR_SINGULAR,
  *          EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED (also: Newton's solution ends a link at
@@ -892,8 +895,8 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
 
 /** \brief H, K, V, J, L and C(t) of the current state. Checks the system as edmi_step
  *  does (a caller may have written its fields); *out is written only on success.
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_CAPACITY, EDMI_ERR_PARAM, EDMI_ERR_MASS,
- *          EDMI_ERR_NONFINITE, EDMI_ERR_INDEX, EDMI_ERR_COINCIDENT (a potential undefined at
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_CORRUPT, EDMI_ERR_CAPACITY, EDMI_ERR_PARAM,
+ *          EDMI_ERR_MASS, EDMI_ERR_NONFINITE, EDMI_ERR_INDEX, EDMI_ERR_COINCIDENT (a potential undefined at
  *          d = 0), EDMI_ERR_DIVERGED (a user potential refused a distance), EDMI_ERR_RANGE */
 edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out);
 
@@ -919,7 +922,7 @@ edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real 
  *  the system's current state (arrays of sys->n_bodies rows). Does not change sys.
  *  \param[out] lg_switches links on the LG alternate force (may be NULL)
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, the system's errors as edmi_step() checks
- *          them (EDMI_ERR_CAPACITY ... EDMI_ERR_PARAM), EDMI_ERR_COINCIDENT,
+ *          them (EDMI_ERR_CORRUPT, EDMI_ERR_CAPACITY ... EDMI_ERR_PARAM), EDMI_ERR_COINCIDENT,
  *          EDMI_ERR_DIVERGED; rq, rp and *lg_switches are written only on success */
 edmi_status edmi_residual(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                           const edmi_real (*q1)[3], const edmi_real (*p1)[3],

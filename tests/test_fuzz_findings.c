@@ -233,16 +233,16 @@ static void tf_counts(void)
                 tf_sys.n_moving = bad[k] < 0 ? bad[k] : EDMI_MAX_LINKS + 1;
             memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
             if (!th_skip(EDMI_WITH_PORTS, "EDMI_WITH_PORTS"))
-                CHECK_STATUS(edmi_set_force(&tf_sys, 0, f), EDMI_ERR_CAPACITY);
-            CHECK_STATUS(edmi_add_body(&tf_sys, EDMI_R(1.0), f, f, 0), EDMI_ERR_CAPACITY);
-            CHECK_STATUS(edmi_add_anchor(&tf_sys, 0, f, &h, 0), EDMI_ERR_CAPACITY);
-            CHECK_STATUS(edmi_add_damper(&tf_sys, 0, EDMI_R(1.0), 0), EDMI_ERR_CAPACITY);
-            CHECK_STATUS(edmi_move_anchor(&tf_sys, 0, f), EDMI_ERR_CAPACITY);
+                CHECK_STATUS(edmi_set_force(&tf_sys, 0, f), EDMI_ERR_CORRUPT);
+            CHECK_STATUS(edmi_add_body(&tf_sys, EDMI_R(1.0), f, f, 0), EDMI_ERR_CORRUPT);
+            CHECK_STATUS(edmi_add_anchor(&tf_sys, 0, f, &h, 0), EDMI_ERR_CORRUPT);
+            CHECK_STATUS(edmi_add_damper(&tf_sys, 0, EDMI_R(1.0), 0), EDMI_ERR_CORRUPT);
+            CHECK_STATUS(edmi_move_anchor(&tf_sys, 0, f), EDMI_ERR_CORRUPT);
             if (!th_skip(EDMI_WITH_FIELD, "EDMI_WITH_FIELD"))
-                CHECK_STATUS(edmi_set_field(&tf_sys, f), EDMI_ERR_CAPACITY);
-            CHECK_STATUS(edmi_set_params(&tf_sys, &prm), EDMI_ERR_CAPACITY);
-            CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_ERR_CAPACITY);
-            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.01), 0), EDMI_ERR_CAPACITY);
+                CHECK_STATUS(edmi_set_field(&tf_sys, f), EDMI_ERR_CORRUPT);
+            CHECK_STATUS(edmi_set_params(&tf_sys, &prm), EDMI_ERR_CORRUPT);
+            CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_ERR_CORRUPT);
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.01), 0), EDMI_ERR_CORRUPT);
             CHECK(TF_UNCHANGED());
         }
 }

@@ -203,9 +203,9 @@ static void ti_status_names(void)
         "EDMI_ERR_INDEX",    "EDMI_ERR_PARAM",         "EDMI_ERR_COINCIDENT",
         "EDMI_ERR_SINGULAR", "EDMI_ERR_NO_CONVERGENCE", "EDMI_ERR_DIVERGED",
         "EDMI_ERR_PASSIVITY", "EDMI_ERR_RANGE",   "EDMI_ERR_DISABLED",
-        "EDMI_ERR_UNINIT"};
+        "EDMI_ERR_UNINIT",   "EDMI_ERR_CORRUPT"};
     int n = (int)(sizeof want / sizeof want[0]), i, j;
-    CHECK(n == (int)EDMI_ERR_UNINIT + 1);
+    CHECK(n == (int)EDMI_ERR_CORRUPT + 1);
     for (i = 0; i < n; i++) {
         const char *s = edmi_status_name((edmi_status)i);
         if (!CHECK(s != 0))

@@ -302,7 +302,7 @@ static int fz_finite_n(const edmi_real *x, int n)
 
 static void fz_status(edmi_status st, const char *call)
 {
-    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_UNINIT)
+    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_CORRUPT)
         fz_fail("status out of range", call, st);
 }
 
