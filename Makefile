@@ -7,7 +7,7 @@
 #> make run             65 s
 #>     the main job: the spring's accuracy table, then the paper's three examples with every
 #>     scheme (edmi-sim), a line as each of its 27 runs ends
-#> make test            4 min    needs g++ (clang: one check more)
+#> make test            5 min    needs g++ (clang: one check more)
 #>     the test suite in four configurations (double, float, both under ASan+UBSan) and in
 #>     three builds with features compiled out (FEATURES), the simulator's tests, the fuzz
 #>     corpus replayed, library checks; last line "N passed, N failed"
@@ -51,7 +51,7 @@
 #> make study           19 min   needs valgrind, libgsl-dev, qemu-system-arm; gnuplot for the figures
 #>     what accuracy costs: every scheme and its peers (velocity Verlet, GSL) on five scenes,
 #>     error against instructions; STUDY_QUICK=1 is the CI subset (40 s)
-#> make soak            7 min
+#> make soak            8 min
 #>     the guard's adversarial scenes, 10^6 steps per case, both precisions (SOAK_STEPS=N for
 #>     fewer)
 #> make refs            2 s
