@@ -3669,24 +3669,18 @@ static edmi_real edmi__tank_after(edmi_real t, edmi_real e, edmi_real m)
 }
 
 /* The default capacity of the energy tank (edmi_params.tank_cap), in units of eps times the
- * magnitude S of H's terms: 256, i.e. 3.1e-5 S in float and 5.7e-14 S in double. Newton's
- * solution rounded to the grid moves H by sigma ~ 0.04-0.13 eps S either way each step
- * (measured: the paper's spring, circular LJ and gravity orbits); the tank holds that noise as
- * a random walk between 0 and its capacity, and the guard acts (and removes energy) only where
- * it would run dry. A walk between two walls of distance C loses ~sigma^2 / (2 C) per step at
- * the upper one (the tank overflowing), which the guard then takes back at the lower: the
- * drift is linear in the steps where the noise's own is ~sigma sqrt(N). 256 keeps the first
- * below the second for ~10^7 steps, about three hours at 1 kHz: over 10^7 float steps of a
- * circular LJ orbit guarded PM drifts 1.3x float MP and LG, at 64 2.4x (make orbits). */
+ * magnitude S of H's terms: 256, i.e. 3.1e-5 S in float and 5.7e-14 S in double. The tank holds
+ * the rounding noise of Newton's solution as a random walk between 0 and its capacity, and the
+ * guard acts (and removes energy) only where it would run dry; a walk between two walls C apart
+ * loses ~sigma^2 / (2 C) per step at the upper one, a drift linear in the steps, so C is chosen
+ * to keep it below the noise's own ~sigma sqrt(N) for long runs (docs/guard.md, "Why a tank",
+ * gives sigma, the run lengths and the orbits measured at 256 and 64). */
 #define EDMI__TANK_CAP EDMI_R(256.0)
 
 /* Where the guard must move the state, it aims to leave this fraction of the capacity in the
- * tank (and takes any state within as much of that): 1/128, 2 eps S at the default capacity.
- * Replaying measured noise through a tank (capacity 64, 10^5 float steps of the spring with
- * PM and LG, circular LJ and gravity orbits), leaving 2 eps S took 20 to 50 times fewer moves
- * than leaving it empty (the next steps' noise, ~0.1 eps S each, would empty it again), for
- * 1 to 17 % more energy removed in all; leaving more costs the orbits' short runs (a 20,000-
- * step LJ orbit in double: one move of 8 eps S exceeded unguarded PM's whole drift). */
+ * tank (and takes any state within as much of that): 1/128, 2 eps S at the default capacity,
+ * so that the next steps' noise does not empty it again at once; leaving more would cost short
+ * runs more than their own drift (docs/guard.md gives the replayed noise behind the choice). */
 #define EDMI__TANK_LIFT (EDMI_R(1.0) / EDMI_R(128.0))
 
 /* ---- the certificate -------------------------------------------------------------------- */
