@@ -7,6 +7,7 @@
 #include "harness.h"
 #include "suites.h"
 #include "passive.h"
+#include "scenes.h"
 
 static long double tc_abs(long double x) { return x < 0.0L ? -x : x; }
 
@@ -243,14 +244,12 @@ static int tc_simulate(int pair, edmi_scheme scheme, tc_run *out)
     return 1;
 }
 
-static const char *tc_name(edmi_scheme s)
-{
-    return s == EDMI_MP ? "MP" : s == EDMI_LG ? "LG" : s == EDMI_GE ? "GE" : s == EDMI_PM ? "PM" : "PT";
-}
+/* Every scheme (the runs that compare them all). */
+static const edmi_scheme tc_all[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
 
 static void tc_check_runs(int pair)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    const edmi_scheme *schemes = tc_all;
     const long double eps = (long double)EDMI_EPS;
     int s;
     for (s = 0; s < 5; s++) {
@@ -261,7 +260,7 @@ static void tc_check_runs(int pair)
         if (!CHECK(tc_simulate(pair, schemes[s], &r)))
             return;
         th_puts(pair ? "  two balls " : "  tether ");
-        th_puts(tc_name(schemes[s]));
+        th_puts(ts_scheme_name(schemes[s]));
         th_puts(": failed ");
         th_put_int(r.failed);
         th_puts(", guard moves ");
@@ -298,6 +297,9 @@ static void tc_check_runs(int pair)
 
 #if EDMI_MAX_WALLS > 0
 /* ---- walls ------------------------------------------------------------------------------ */
+
+/* The schemes whose energy decays: the hard cases against walls. */
+static const edmi_scheme tc_decaying[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
 
 /* What a run of steps did, as the issue's hard cases report it: steps that failed, were split
  * into substeps or fell back, windows broken (or not evaluated), guard moves, and the largest
@@ -338,8 +340,7 @@ static int tc_tally_step(tc_tally *t, edmi_status st, const edmi_system *prev,
 static int tc_tally_put(const tc_tally *t, const char *label, edmi_scheme scheme)
 {
     th_puts(label);
-    th_puts(scheme == EDMI_MP ? "MP" : scheme == EDMI_LG ? "LG" : scheme == EDMI_GE ? "GE" :
-            scheme == EDMI_PM ? "PM" : "PT");
+    th_puts(ts_scheme_name(scheme));
     th_puts(": steps ");
     th_put_int(t->steps);
     th_puts(", failed ");
@@ -481,7 +482,7 @@ static int tc_ball(edmi_scheme scheme, int tilt, tc_bounce *out)
 
 static void tc_check_ball(int tilt)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    const edmi_scheme *schemes = tc_all;
     const long double eps = (long double)EDMI_EPS;
     int s;
     for (s = 0; s < 5; s++) {
@@ -546,7 +547,7 @@ static int tc_same_p(const edmi_system *a, const edmi_system *b)
 
 static void tc_check_wall_cases(void)
 {
-    static const edmi_scheme schemes[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
+    const edmi_scheme *schemes = tc_decaying;
     static edmi_system sys, prev;
     static edmi_workspace work;
     int s, c;
@@ -703,7 +704,7 @@ static void tc_check_rest(void)
 #if EDMI_MAX_BODIES >= 16 && EDMI_MAX_LINKS >= 120 && EDMI_MAX_WALLS >= 64
 static void tc_check_box(void)
 {
-    static const edmi_scheme schemes[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
+    const edmi_scheme *schemes = tc_decaying;
     static edmi_system sys, prev;
     static edmi_workspace work;
     /* initial velocities (m/s), fixed: a deterministic run on every target */
@@ -780,7 +781,7 @@ static void tc_check_box(void)
  * (plus the tank), and at least 90 % of it (GE dissipates). */
 static void tc_check_piston(void)
 {
-    static const edmi_scheme schemes[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
+    const edmi_scheme *schemes = tc_decaying;
     static edmi_system sys, prev;
     static edmi_workspace work;
     int s;
