@@ -77,17 +77,19 @@
 #endif
 /* The schemes and potential kinds this build carries (edmi.h, EDMI_WITH_*): bit k is scheme
  * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT of a constant are constants, so a test such as
- * EDMI__HAS_SCHEME(EDMI_LG) && p->scheme == EDMI_LG drops the code behind it when LG is out;
- * with every one in (all five schemes, all eight kinds) they are 1 for any value, so the
+ * EDMI__HAS_SCHEME(EDMI_SCHEME_LG) && p->scheme == EDMI_SCHEME_LG drops the code behind it
+ * when LG is out; with every one in (all five schemes, all eight kinds) they are 1 for any value, so the
  * validators test nothing more than the default build needs.
  * The decaying Lambdas are needed by their schemes and by LG's alternates. */
 #define EDMI__SCHEMES                                                                      \
-    ((unsigned)EDMI_WITH_MP << EDMI_MP | (unsigned)EDMI_WITH_LG << EDMI_LG |               \
-     (unsigned)EDMI_WITH_GE << EDMI_GE | (unsigned)EDMI_WITH_PM << EDMI_PM |               \
-     (unsigned)EDMI_WITH_PT << EDMI_PT)
+    ((unsigned)EDMI_WITH_MP << EDMI_SCHEME_MP | (unsigned)EDMI_WITH_LG << EDMI_SCHEME_LG |      \
+     (unsigned)EDMI_WITH_GE << EDMI_SCHEME_GE | (unsigned)EDMI_WITH_PM << EDMI_SCHEME_PM |      \
+     (unsigned)EDMI_WITH_PT << EDMI_SCHEME_PT)
 #define EDMI__HAS_SCHEME(x) (EDMI__SCHEMES == 31u || (EDMI__SCHEMES >> (x) & 1u) != 0)
 #define EDMI__DECAYING                                                                     \
-    (EDMI__SCHEMES | (EDMI_WITH_LG_QUOTIENT ? 1u << EDMI_GE | 1u << EDMI_PM | 1u << EDMI_PT : 0u))
+    (EDMI__SCHEMES |                                                                       \
+     (EDMI_WITH_LG_QUOTIENT ? 1u << EDMI_SCHEME_GE | 1u << EDMI_SCHEME_PM | 1u << EDMI_SCHEME_PT \
+                            : 0u))
 #define EDMI__HAS_DECAYING(x) ((EDMI__DECAYING >> (x) & 1u) != 0)
 #define EDMI__POTS                                                                         \
     ((unsigned)EDMI_WITH_HARMONIC << EDMI_POT_HARMONIC |                                   \
@@ -1275,24 +1277,26 @@ enum { EDMI__NEED_END = 1, EDMI__NEED_AVG = 2 };
 
 static int edmi__needs_decaying(edmi_scheme s)
 {
-    return s == EDMI_PM ? EDMI__NEED_END | EDMI__NEED_AVG : EDMI__NEED_END;
+    return s == EDMI_SCHEME_PM ? EDMI__NEED_END | EDMI__NEED_AVG : EDMI__NEED_END;
 }
 
 /* The energy-decaying scheme an LG alternate borrows its force from. */
 static edmi_scheme edmi__alt_scheme(edmi_lg_alt alt)
 {
-    return alt == EDMI_ALT_GE ? EDMI_GE : alt == EDMI_ALT_PM ? EDMI_PM : EDMI_PT;
+    return alt == EDMI_LG_ALT_GE   ? EDMI_SCHEME_GE
+           : alt == EDMI_LG_ALT_PM ? EDMI_SCHEME_PM
+                                   : EDMI_SCHEME_PT;
 }
 
 /* Lambda of an energy-decaying scheme, used by GE/PM/PT and by LG's decaying alternates. */
 static void edmi__lambda_decaying(edmi_scheme s, const edmi_link_ws *w, const edmi__at_end *e,
                                   edmi_real *lam, edmi_real *dlam)
 {
-    if (EDMI__HAS_DECAYING(EDMI_GE) && s == EDMI_GE)
+    if (EDMI__HAS_DECAYING(EDMI_SCHEME_GE) && s == EDMI_SCHEME_GE)
         edmi__lambda_ge(w, e, lam, dlam);
-    else if (EDMI__HAS_DECAYING(EDMI_PM) && s == EDMI_PM)
+    else if (EDMI__HAS_DECAYING(EDMI_SCHEME_PM) && s == EDMI_SCHEME_PM)
         edmi__lambda_pm(w, e, lam, dlam);
-    else if (EDMI__HAS_DECAYING(EDMI_PT))
+    else if (EDMI__HAS_DECAYING(EDMI_SCHEME_PT))
         edmi__lambda_pt(w, e, lam, dlam);
 }
 
@@ -1301,15 +1305,15 @@ static void edmi__lambda_lg_alt(edmi_lg_alt alt, const edmi_link_ws *w, const ed
                                 edmi_real *lam, edmi_real *dlam)
 {
     switch (alt) {
-    case EDMI_ALT_GONZALEZ:
+    case EDMI_LG_ALT_GONZALEZ:
         edmi__lambda_gonzalez(w, e, lam, dlam);
         break;
-    case EDMI_ALT_GE:
-    case EDMI_ALT_PM:
-    case EDMI_ALT_PT:
+    case EDMI_LG_ALT_GE:
+    case EDMI_LG_ALT_PM:
+    case EDMI_LG_ALT_PT:
         edmi__lambda_decaying(edmi__alt_scheme(alt), w, e, lam, dlam);
         break;
-    case EDMI_ALT_JANZ:
+    case EDMI_LG_ALT_JANZ:
     default:
         edmi__lambda_janz(e, lam, dlam);
         break;
@@ -1341,7 +1345,7 @@ static void edmi__beta_linear(edmi_scheme scheme, edmi_real k, edmi_link_ws *w,
     w->beta = k;
     w->gamma = EDMI__ZERO;
     edmi__copy3(r1, w->u);
-    if (EDMI__HAS_SCHEME(EDMI_GE) && scheme == EDMI_GE) {
+    if (EDMI__HAS_SCHEME(EDMI_SCHEME_GE) && scheme == EDMI_SCHEME_GE) {
         edmi_real d1 = edmi__norm(r1), s = w->d0 + d1;
         int i;
         if (!(s > EDMI__ZERO))
@@ -1386,7 +1390,7 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
     e.d1 = edmi__norm(r1);
     if (!(e.d1 > EDMI__ZERO) || !edmi__finite(e.d1))
         return EDMI_ERR_DIVERGED;
-    if (EDMI__HAS_SCHEME(EDMI_LG) && prm->scheme == EDMI_LG) {
+    if (EDMI__HAS_SCHEME(EDMI_SCHEME_LG) && prm->scheme == EDMI_SCHEME_LG) {
         /* without the quotient form, a user potential under LG has its divided difference
          * (edmi__validate_system) */
         lg_closed = !EDMI_WITH_LG_QUOTIENT ||
@@ -1398,11 +1402,11 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
         if (st != EDMI_OK)
             return st;
     } else {
-        if (!EDMI_WITH_LG_QUOTIENT || prm->scheme != EDMI_LG)
+        if (!EDMI_WITH_LG_QUOTIENT || prm->scheme != EDMI_SCHEME_LG)
             need = edmi__needs_decaying(prm->scheme);
         else if (!lg_switch)
             need = EDMI__NEED_END; /* the quotient needs V(d_n+1), V'(d_n+1) */
-        else if (prm->lg_alt == EDMI_ALT_JANZ || prm->lg_alt == EDMI_ALT_GONZALEZ)
+        else if (prm->lg_alt == EDMI_LG_ALT_JANZ || prm->lg_alt == EDMI_LG_ALT_GONZALEZ)
             need = EDMI__NEED_AVG;
         else
             need = edmi__needs_decaying(edmi__alt_scheme(prm->lg_alt));
@@ -1423,7 +1427,7 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
                 return st;
             e.pa = &e.pavg;
         }
-        if (!EDMI_WITH_LG_QUOTIENT || prm->scheme != EDMI_LG)
+        if (!EDMI_WITH_LG_QUOTIENT || prm->scheme != EDMI_SCHEME_LG)
             edmi__lambda_decaying(prm->scheme, w, &e, &lam, &dlam);
         else if (lg_switch)
             edmi__lambda_lg_alt(prm->lg_alt, w, &e, &lam, &dlam);
@@ -1795,7 +1799,7 @@ static edmi_status edmi__link_force(const edmi_system *sys, edmi_workspace *work
     *switched = 0;
     if (edmi__is_linear(&lk->pot))
         edmi__beta_linear(sys->params.scheme, lk->pot.a, w, r1, &rm_div);
-    else if (EDMI__HAS_SCHEME(EDMI_MP) && sys->params.scheme == EDMI_MP)
+    else if (EDMI__HAS_SCHEME(EDMI_SCHEME_MP) && sys->params.scheme == EDMI_SCHEME_MP)
         st = edmi__beta_mp(&lk->pot, w);
     else
         st = edmi__beta_split(&sys->params, &lk->pot, w, r1, dt, switched);
@@ -1848,16 +1852,16 @@ static edmi_status edmi__wall_force(const edmi_system *sys, edmi_workspace *work
         /* off the body at both ends: every scheme's Lambda and its slope are 0 (V, V', V''
          * and V''' vanish on the free side and at the kink, and every mean of the two gaps
          * the schemes take lies between them) */
-    } else if (EDMI__HAS_SCHEME(EDMI_MP) && s == EDMI_MP) {
+    } else if (EDMI__HAS_SCHEME(EDMI_SCHEME_MP) && s == EDMI_SCHEME_MP) {
         st = edmi__pot_parts(pot, EDMI__HALF * w->d0 + EDMI__HALF * e.d1, &e.pavg, 0);
         lam = e.pavg.v[1];
         dlam = EDMI__HALF * e.pavg.v[2];
-    } else if (EDMI__HAS_SCHEME(EDMI_LG) && s == EDMI_LG) {
+    } else if (EDMI__HAS_SCHEME(EDMI_SCHEME_LG) && s == EDMI_SCHEME_LG) {
         st = edmi__divdiff(pot, w->d0, e.d1, &lam, &dlam);
     } else {
         st = edmi__pot_parts(pot, e.d1, &e.p1, 1);
         e.pa = &e.p1;
-        if (st == EDMI_OK && s == EDMI_PM && e.d1 != w->d0) {
+        if (st == EDMI_OK && s == EDMI_SCHEME_PM && e.d1 != w->d0) {
             st = edmi__pot_parts(pot, EDMI__HALF * w->d0 + EDMI__HALF * e.d1, &e.pavg, 0);
             e.pa = &e.pavg;
         }
@@ -2957,9 +2961,9 @@ static int edmi__guard_on(const edmi_params *p)
         return 0;
     return p->guard == EDMI_GUARD_ON ||
            (p->guard == EDMI_GUARD_AUTO &&
-            ((EDMI__HAS_SCHEME(EDMI_GE) && p->scheme == EDMI_GE) ||
-             (EDMI__HAS_SCHEME(EDMI_PM) && p->scheme == EDMI_PM) ||
-             (EDMI__HAS_SCHEME(EDMI_PT) && p->scheme == EDMI_PT)));
+            ((EDMI__HAS_SCHEME(EDMI_SCHEME_GE) && p->scheme == EDMI_SCHEME_GE) ||
+             (EDMI__HAS_SCHEME(EDMI_SCHEME_PM) && p->scheme == EDMI_SCHEME_PM) ||
+             (EDMI__HAS_SCHEME(EDMI_SCHEME_PT) && p->scheme == EDMI_SCHEME_PT)));
 }
 
 /* The tank a step may spend, T_n: sys->tank, or 0 with tank_cap 0, the per-step form, which
@@ -4386,13 +4390,13 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
         return 0;
     if ((k[0] | k[1] | k[2]) != 0) {
         edmi__round_apply(work, c, n, k);
-        res->guard_action |= EDMI_GUARD_ROUND;
+        res->guard_action |= EDMI_MOVE_ROUND;
     }
     if (qv != 0) {
         edmi__qvariant(qv, o);
         for (j = 0; j < 3; j++)
             work->q1[qm.a][j] += (edmi_real)o[j] * qm.u[j];
-        res->guard_action |= EDMI_GUARD_ROUND;
+        res->guard_action |= EDMI_MOVE_ROUND;
         edmi__port_work(sys, work, res, bal);
         if (edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, bal, qm.a) != EDMI_OK)
             return -1;
@@ -4488,7 +4492,7 @@ static int edmi__guard_move(const edmi_system *sys, edmi_workspace *work, edmi__
         if (!edmi__held(sys, work))
             return 0;
         edmi__guard_hold(sys, work);
-        res->guard_action |= EDMI_GUARD_HOLD;
+        res->guard_action |= EDMI_MOVE_HOLD;
         return 1;
     case EDMI__MOVE_IMPULSE: /* the bulk, when more than a couple of units are needed */
         if (!search)
@@ -4498,7 +4502,7 @@ static int edmi__guard_move(const edmi_system *sys, edmi_workspace *work, edmi__
             return 0;
         if (!edmi__guard_impulse(sys, work, t->goal))
             return 0;
-        res->guard_action |= EDMI_GUARD_IMPULSE;
+        res->guard_action |= EDMI_MOVE_IMPULSE;
         return 1;
     case EDMI__MOVE_ROUND:
         if (!search)
@@ -4508,7 +4512,7 @@ static int edmi__guard_move(const edmi_system *sys, edmi_workspace *work, edmi__
     case EDMI__MOVE_DRAG:
         if (!search || edmi__certified(t) || !edmi__guard_drag(sys, work, t->goal))
             return 0;
-        res->guard_action |= EDMI_GUARD_DRAG;
+        res->guard_action |= EDMI_MOVE_DRAG;
         if (!edmi__reaim(sys, work, bal, t))
             return -1;
         if (!edmi__settled(t) && edmi__guard_round(sys, work, bal, t, EDMI__ROUND_K0, res) < 0)
@@ -4522,7 +4526,7 @@ static int edmi__guard_move(const edmi_system *sys, edmi_workspace *work, edmi__
         if (edmi__certified(t))
             return 0;
         edmi__guard_stop(sys, work);
-        res->guard_action |= EDMI_GUARD_DRAG;
+        res->guard_action |= EDMI_MOVE_DRAG;
         return 1;
     }
 }
@@ -4916,7 +4920,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
             /* at the bottom of the range a position's rounding can exceed what every move
              * of the momenta covers (double, |q| ~ 1e-321): the bodies stop where they were */
             st = edmi__freeze(sys, work, res);
-            res->guard_action |= EDMI_GUARD_STOP;
+            res->guard_action |= EDMI_MOVE_STOP;
             return st;
         }
         if (st != EDMI_OK)
@@ -5441,11 +5445,13 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
 /* Parameters in range (else EDMI_ERR_PARAM) and a scheme and LG form this build carries. */
 static edmi_status edmi__params_valid(const edmi_params *p)
 {
-    int ok = (p->scheme == EDMI_MP || p->scheme == EDMI_LG || p->scheme == EDMI_GE ||
-            p->scheme == EDMI_PM || p->scheme == EDMI_PT) &&
+    int ok = (p->scheme == EDMI_SCHEME_MP || p->scheme == EDMI_SCHEME_LG ||
+              p->scheme == EDMI_SCHEME_GE || p->scheme == EDMI_SCHEME_PM ||
+              p->scheme == EDMI_SCHEME_PT) &&
            (p->lg_form == EDMI_LG_CLOSED || p->lg_form == EDMI_LG_QUOTIENT) &&
-           (p->lg_alt == EDMI_ALT_JANZ || p->lg_alt == EDMI_ALT_GONZALEZ ||
-            p->lg_alt == EDMI_ALT_GE || p->lg_alt == EDMI_ALT_PM || p->lg_alt == EDMI_ALT_PT) &&
+           (p->lg_alt == EDMI_LG_ALT_JANZ || p->lg_alt == EDMI_LG_ALT_GONZALEZ ||
+            p->lg_alt == EDMI_LG_ALT_GE || p->lg_alt == EDMI_LG_ALT_PM ||
+            p->lg_alt == EDMI_LG_ALT_PT) &&
            edmi__finite(p->tol_q) && p->tol_q > EDMI__ZERO && edmi__finite(p->tol_r) &&
            p->tol_r >= EDMI__ZERO && edmi__finite(p->tol_a) && p->tol_a >= EDMI__ZERO &&
            p->l_max >= 1 && edmi__finite(p->tank_cap) && p->tank_cap >= EDMI__ZERO &&
@@ -5455,7 +5461,7 @@ static edmi_status edmi__params_valid(const edmi_params *p)
     if (!ok)
         return EDMI_ERR_PARAM;
     if (!EDMI__HAS_SCHEME(p->scheme) ||
-        (!EDMI_WITH_LG_QUOTIENT && p->scheme == EDMI_LG && p->lg_form == EDMI_LG_QUOTIENT) ||
+        (!EDMI_WITH_LG_QUOTIENT && p->scheme == EDMI_SCHEME_LG && p->lg_form == EDMI_LG_QUOTIENT) ||
         (!EDMI_WITH_GUARD && p->guard == EDMI_GUARD_ON))
         return EDMI_ERR_DISABLED;
     return EDMI_OK;
@@ -5608,8 +5614,8 @@ static edmi_status edmi__validate_system(const edmi_system *sys)
     st = edmi__bodies_links_valid(sys->n_bodies, sys->body, sys->n_links, sys->link);
     if (st != EDMI_OK)
         return st;
-    if (!EDMI_WITH_LG_QUOTIENT && EDMI__HAS_SCHEME(EDMI_LG) && EDMI__HAS_POT(EDMI_POT_USER) &&
-        sys->params.scheme == EDMI_LG) {
+    if (!EDMI_WITH_LG_QUOTIENT && EDMI__HAS_SCHEME(EDMI_SCHEME_LG) &&
+        EDMI__HAS_POT(EDMI_POT_USER) && sys->params.scheme == EDMI_SCHEME_LG) {
         int j; /* LG's closed form needs a user potential's divided difference */
         for (j = 0; j < sys->n_links; j++)
             if (sys->link[j].pot.kind == EDMI_POT_USER && sys->link[j].pot.dd == 0)
@@ -5647,10 +5653,13 @@ edmi_params edmi_default_params(void)
     edmi_params p;
     /* energy-safe: decays, never gains (docs/energy-safe.md); or the first decaying, then
      * conserving, scheme the build carries */
-    p.scheme = EDMI_WITH_PM ? EDMI_PM : EDMI_WITH_PT ? EDMI_PT : EDMI_WITH_GE ? EDMI_GE
-               : EDMI_WITH_LG ? EDMI_LG : EDMI_MP;
+    p.scheme = EDMI_WITH_PM   ? EDMI_SCHEME_PM
+               : EDMI_WITH_PT ? EDMI_SCHEME_PT
+               : EDMI_WITH_GE ? EDMI_SCHEME_GE
+               : EDMI_WITH_LG ? EDMI_SCHEME_LG
+                              : EDMI_SCHEME_MP;
     p.lg_form = EDMI_LG_CLOSED;
-    p.lg_alt = EDMI_ALT_JANZ;
+    p.lg_alt = EDMI_LG_ALT_JANZ;
     p.l_max = 20;
     p.energy_balance = 0;
     p.guard = EDMI_GUARD_AUTO;

@@ -23,7 +23,7 @@
  *   Misc             edmi_status_name, edmi_is_double_precision, EDMI_CONFIG_MATCHES
  *   (the end)        layouts for sizing only: the workspace's fields, which no caller touches
  *
- * Version 0.1.0.
+ * Version 0.2.0.
  * SPDX-License-Identifier: MIT
  * Copyright (c) 2026 the edmi authors. The MIT licence text is in LICENSE; this notice and
  * that text go with every copy of edmi.h and edmi.c.
@@ -32,7 +32,7 @@
 #define EDMI_H
 
 #define EDMI_VERSION_MAJOR 0
-#define EDMI_VERSION_MINOR 1
+#define EDMI_VERSION_MINOR 2
 #define EDMI_VERSION_PATCH 0
 /** Packed version: 0xMMmmpp. */
 #define EDMI_VERSION ((EDMI_VERSION_MAJOR << 16) | (EDMI_VERSION_MINOR << 8) | EDMI_VERSION_PATCH)
@@ -322,11 +322,13 @@ typedef enum edmi_status {
 
 /** The five algorithmic forces of the paper (section 4.1). */
 typedef enum edmi_scheme {
-    EDMI_MP = 0, /*!< implicit mid-point, f_mp: V' at the distance between the mid-points */
-    EDMI_LG,     /*!< LaBudde-Greenspan, f_lg: energy-conserving */
-    EDMI_GE,     /*!< generalized Eyre, f_ge: convex/concave split, 1st order, energy-decaying */
-    EDMI_PM,     /*!< perturbed mid-point, f_pm: super-convex/concave, 2nd order, decaying */
-    EDMI_PT      /*!< perturbed trapezoidal, f_pt: super-convex/concave, 2nd order, decaying */
+    EDMI_SCHEME_MP = 0, /*!< implicit mid-point, f_mp: V' at the distance between the
+                             mid-points */
+    EDMI_SCHEME_LG, /*!< LaBudde-Greenspan, f_lg: energy-conserving */
+    EDMI_SCHEME_GE, /*!< generalized Eyre, f_ge: convex/concave split, 1st order, decaying */
+    EDMI_SCHEME_PM, /*!< perturbed mid-point, f_pm: super-convex/concave, 2nd order, decaying */
+    EDMI_SCHEME_PT  /*!< perturbed trapezoidal, f_pt: super-convex/concave, 2nd order,
+                         decaying */
 } edmi_scheme;
 
 /** How LG evaluates its difference quotient [V(d1)-V(d0)]/(d1-d0). */
@@ -343,11 +345,12 @@ typedef enum edmi_lg_form {
 
 /** LG's alternate force on a link when |d1 - d0| <= params.tol_q (EDMI_LG_QUOTIENT only). */
 typedef enum edmi_lg_alt {
-    EDMI_ALT_JANZ = 0, /*!< V'(d_avg), the paper's default (eq. janz-mid-point-rescue) */
-    EDMI_ALT_GONZALEZ, /*!< V'(d_avg) + (d1-d0)^2/24 V'''(d_avg) (eq. gonzalez-mid-point-rescue) */
-    EDMI_ALT_GE,       /*!< the generalized Eyre force: energy-decaying */
-    EDMI_ALT_PM,       /*!< the perturbed mid-point force: energy-decaying */
-    EDMI_ALT_PT        /*!< the perturbed trapezoidal force: energy-decaying */
+    EDMI_LG_ALT_JANZ = 0, /*!< V'(d_avg), the paper's default (eq. janz-mid-point-rescue) */
+    EDMI_LG_ALT_GONZALEZ, /*!< V'(d_avg) + (d1-d0)^2/24 V'''(d_avg)
+                               (eq. gonzalez-mid-point-rescue) */
+    EDMI_LG_ALT_GE,       /*!< the generalized Eyre force: energy-decaying */
+    EDMI_LG_ALT_PM,       /*!< the perturbed mid-point force: energy-decaying */
+    EDMI_LG_ALT_PT        /*!< the perturbed trapezoidal force: energy-decaying */
 } edmi_lg_alt;
 
 /** The passivity guard (docs/energy-safe.md). */
@@ -633,20 +636,20 @@ typedef enum edmi_stop {
 #define EDMI_SOLVED 1024
 
 /** Bits of edmi_step_result.guard_action: what the passivity guard changed. */
-#define EDMI_GUARD_IMPULSE 1u /*!< an impulse along one link (keeps L, J, C; an anchor link
-                                   keeps J about its anchor) moved H towards its target */
-#define EDMI_GUARD_DRAG 2u    /*!< a drag relative to the centre of mass (keeps L, not J):
-                                   no link could remove the excess */
-#define EDMI_GUARD_ROUND 4u   /*!< momentum components moved by a few units in the last place
-                                   (the energy-aware rounding of the stored state) */
-#define EDMI_GUARD_STOP 8u    /*!< at the bottom of the range (every energy below ~2^-54 of a
-                                   unit in float, 2^-863 in double: a system come to rest),
-                                   where the grid is too coarse for the moves above: positions
-                                   kept and momenta set to the frame's, as the fallback state */
-#define EDMI_GUARD_HOLD 16u   /*!< no position moved and the tank could not cover the momenta's
-                                   rise: the step kept the state it started from (H and the
-                                   works unchanged exactly; a body held at rest by the grid a
-                                   few units in the last place off an anchor) */
+#define EDMI_MOVE_IMPULSE 1u /*!< an impulse along one link (keeps L, J, C; an anchor link
+                                  keeps J about its anchor) moved H towards its target */
+#define EDMI_MOVE_DRAG 2u    /*!< a drag relative to the centre of mass (keeps L, not J):
+                                  no link could remove the excess */
+#define EDMI_MOVE_ROUND 4u   /*!< momentum components moved by a few units in the last place
+                                  (the energy-aware rounding of the stored state) */
+#define EDMI_MOVE_STOP 8u    /*!< at the bottom of the range (every energy below ~2^-54 of a
+                                  unit in float, 2^-863 in double: a system come to rest),
+                                  where the grid is too coarse for the moves above: positions
+                                  kept and momenta set to the frame's, as the fallback state */
+#define EDMI_MOVE_HOLD 16u   /*!< no position moved and the tank could not cover the momenta's
+                                  rise: the step kept the state it started from (H and the
+                                  works unchanged exactly; a body held at rest by the grid a
+                                  few units in the last place off an anchor) */
 
 /** How a step's energy change was certified (edmi_step_result.certificate). */
 typedef enum edmi_certificate {
@@ -702,7 +705,7 @@ typedef struct edmi_step_result {
     edmi_real diss_guard;   /*!< energy the guard's changes removed: H change of Newton's
                                  iterate minus that of the stored state (0 when the tank
                                  covered the step, as on most steps) */
-    unsigned guard_action;  /*!< EDMI_GUARD_IMPULSE | _DRAG | _ROUND | _STOP | _HOLD: what the
+    unsigned guard_action;  /*!< EDMI_MOVE_IMPULSE | _DRAG | _ROUND | _STOP | _HOLD: what the
                                  guard did */
     edmi_certificate certificate; /*!< how the guard (or energy_balance) evaluated the step */
     edmi_real tank;         /*!< the energy tank after the step, T_n+1 (sys->tank) */

@@ -40,7 +40,7 @@ __attribute__((noinline)) static long bc_run(int verlet, edmi_real dt, int steps
 int main(int argc, char **argv)
 {
     static const char *const methods[] = {"mp", "lg", "ge", "pm", "pt", "verlet"};
-    edmi_scheme scheme = EDMI_MP;
+    edmi_scheme scheme = EDMI_SCHEME_MP;
     edmi_status s;
     edmi_real dt;
     int m, n, steps, verlet;

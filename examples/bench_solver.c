@@ -35,7 +35,7 @@ static int build_chain(int n, int ring)
     edmi_params prm = edmi_default_params();
     edmi_potential spring = edmi_pot_quartic(EDMI_R(50.0), EDMI_R(1.0));
     int a;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     if (edmi_init(&sys, &prm) != EDMI_OK)
         return 1;
     for (a = 0; a < n; a++) {
@@ -67,7 +67,7 @@ static int build_pairs(int n)
 {
     edmi_params prm = edmi_default_params();
     int a, b;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     if (edmi_init(&sys, &prm) != EDMI_OK)
         return 1;
     for (a = 0; a < n; a++) {

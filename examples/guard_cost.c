@@ -7,7 +7,7 @@
  * zero-rest-length spring (k 1e4) with a damper (c 5) to an anchor, PM, dt 1e-3, settled for
  * 60,000 steps from 0.01 away, then 2000 steps measured: the anchor at the origin (the body
  * ends on a subnormal distance: certified on scaled values) and at (0.25, -1, 3) (the body
- * rests a few units in the last place off it: the guard holds it, EDMI_GUARD_HOLD). The loops
+ * rests a few units in the last place off it: the guard holds it, EDMI_MOVE_HOLD). The loops
  * are noinline and must stay distinct functions (build with -fno-ipa-icf, or GCC merges the
  * identical edmi loops). */
 #include <stdio.h>
@@ -28,7 +28,7 @@ static int gc_build(edmi_guard_mode g)
     static const edmi_real o[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_potential pot = edmi_pot_neo_hooke(EDMI_R(1e3), EDMI_R(4.0));
     edmi_params prm = edmi_default_params();
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.guard = g;
     gc_iterations = 0;
     return edmi_init(&gc_sys, &prm) == EDMI_OK &&
@@ -61,7 +61,7 @@ static int gc_build_rest(edmi_real x0, edmi_real x1, edmi_real x2)
     q[0] = x0 + EDMI_R(0.01);
     q[1] = x1;
     q[2] = x2;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     if (edmi_init(&gc_sys, &prm) != EDMI_OK ||
         edmi_add_body(&gc_sys, EDMI_R(0.1), q, p, NULL) != EDMI_OK ||
         edmi_add_anchor(&gc_sys, 0, x, &pot, &link) != EDMI_OK ||

@@ -157,7 +157,7 @@ static void hp_edmi_init(hp_edmi *e, edmi_real x0)
     edmi_real q[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_real p[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_status st;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.fallback = 1; /* a 1 kHz loop must have a force every tick: a failed Newton solve
                          stores the passive fallback state instead (counted) */
     q[0] = x0;
@@ -193,9 +193,9 @@ static void hp_edmi_tick(hp_edmi *e, long tick, edmi_real target, edmi_step_resu
             e->max_iterations = res->iterations;
         e->fallbacks += res->stop == EDMI_STOP_FALLBACK;
         e->guarded += res->guard_action != 0;
-        e->by_action[0] += (res->guard_action & EDMI_GUARD_ROUND) != 0;
-        e->by_action[1] += (res->guard_action & EDMI_GUARD_IMPULSE) != 0;
-        e->by_action[2] += (res->guard_action & EDMI_GUARD_DRAG) != 0;
+        e->by_action[0] += (res->guard_action & EDMI_MOVE_ROUND) != 0;
+        e->by_action[1] += (res->guard_action & EDMI_MOVE_IMPULSE) != 0;
+        e->by_action[2] += (res->guard_action & EDMI_MOVE_DRAG) != 0;
     }
     e->off_axis += b->q[1] != EDMI_R(0.0) || b->q[2] != EDMI_R(0.0) ||
                    b->p[1] != EDMI_R(0.0) || b->p[2] != EDMI_R(0.0);

@@ -257,7 +257,7 @@ static void morse_check_divdiff(void)
 
 int main(int argc, char **argv)
 {
-    static const edmi_scheme schemes[2] = {EDMI_PM, EDMI_LG};
+    static const edmi_scheme schemes[2] = {EDMI_SCHEME_PM, EDMI_SCHEME_LG};
     static const char *const names[2] = {"PM", "LG"};
     const int check = argc == 2 && strcmp(argv[1], "--check") == 0;
     int s;
@@ -285,7 +285,7 @@ int main(int argc, char **argv)
             morse_expect(r.failed == 0, "failed steps", 0, (double)r.failed, 0);
             morse_expect(r.dl <= 8.0L * eps * 20000.0L && r.dj <= 8.0L * eps * 20000.0L * r.scale,
                          "momenta", 0, (double)r.dl, (double)r.dj);
-            if (schemes[s] == EDMI_PM) /* the guard: never above H0 (the tank starts empty) */
+            if (schemes[s] == EDMI_SCHEME_PM) /* the guard: never above H0 (the tank starts empty) */
                 morse_expect(r.rise <= 64.0L * LDBL_EPSILON * 4.0L, "PM's rise", 0, (double)r.rise, 0);
             else /* LG: conserved to round-off, a walk of 2e4 steps of a few eps H0 */
                 morse_expect(fabsl(r.drift) <= 4096.0L * eps * r.h0, "LG's drift", 0,

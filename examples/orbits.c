@@ -46,10 +46,10 @@ typedef struct orb_variant {
 } orb_variant;
 
 static const orb_variant orb_variants[4] = {
-    {"PM (guard on)", EDMI_PM, EDMI_GUARD_AUTO},
-    {"PM guard off", EDMI_PM, EDMI_GUARD_OFF},
-    {"MP", EDMI_MP, EDMI_GUARD_AUTO},
-    {"LG", EDMI_LG, EDMI_GUARD_AUTO},
+    {"PM (guard on)", EDMI_SCHEME_PM, EDMI_GUARD_AUTO},
+    {"PM guard off", EDMI_SCHEME_PM, EDMI_GUARD_OFF},
+    {"MP", EDMI_SCHEME_MP, EDMI_GUARD_AUTO},
+    {"LG", EDMI_SCHEME_LG, EDMI_GUARD_AUTO},
 };
 
 /* What one run measured (all relative figures over the scene's own |H0|, |J0|, r0). */

@@ -26,7 +26,7 @@
 #define RATIO_HI 1.05
 
 static const char *const scheme_name[N_SCHEMES] = {"MP", "LG", "GE", "PM", "PT"};
-static const edmi_scheme schemes[N_SCHEMES] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+static const edmi_scheme schemes[N_SCHEMES] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 static const double dts[N_DT] = {1e-2, 5e-3, 1e-3, 5e-4, 1e-4};
 static const long n_steps[N_DT] = {1000, 2000, 10000, 20000, 100000}; /* T / dt */
 
@@ -85,7 +85,7 @@ static edmi_params paper_params(edmi_scheme scheme, edmi_lg_form form)
     edmi_params prm = edmi_default_params();
     prm.scheme = scheme;
     prm.lg_form = form;
-    prm.lg_alt = EDMI_ALT_JANZ;
+    prm.lg_alt = EDMI_LG_ALT_JANZ;
     if (edmi_is_double_precision()) {
         prm.tol_q = (edmi_real)1e-8;
         prm.tol_r = (edmi_real)1e-10;
@@ -259,7 +259,7 @@ int main(void)
                "library's float defaults are used and the table is not comparable.\n");
 
     /* (a) */
-    setup(EDMI_MP, EDMI_LG_CLOSED);
+    setup(EDMI_SCHEME_MP, EDMI_LG_CLOSED);
     invariants(&h0, j0);
     printf("\n(a) initial invariants\n");
     printf("H0 = %.10g (paper 1866.8)\n", h0);
@@ -269,7 +269,7 @@ int main(void)
     printf("\n(b) reference solution: MP, dt = %g, %ld steps to T = %g\n", REF_DT, REF_STEPS,
            T_END);
     fflush(stdout);
-    run(EDMI_MP, EDMI_LG_CLOSED, REF_DT, REF_STEPS, 0, &ref);
+    run(EDMI_SCHEME_MP, EDMI_LG_CLOSED, REF_DT, REF_STEPS, 0, &ref);
     printf("q_ref = (%.15g, %.15g, %.15g)\n", ref.q[0], ref.q[1], ref.q[2]);
     printf("p_ref = (%.15g, %.15g, %.15g)\n", ref.p[0], ref.p[1], ref.p[2]);
     printf("wall time %.2f s (%.0f steps/s), %.2f Newton iterations per step (max %d)\n",
@@ -286,11 +286,11 @@ int main(void)
     fflush(stdout);
     for (s = 0; s < N_SCHEMES; s++)
         flagged += accuracy_rows(scheme_name[s], schemes[s],
-                                 schemes[s] == EDMI_LG ? EDMI_LG_QUOTIENT : EDMI_LG_CLOSED, s,
+                                 schemes[s] == EDMI_SCHEME_LG ? EDMI_LG_QUOTIENT : EDMI_LG_CLOSED, s,
                                  &ref);
     printf("\nFor comparison, LG with the closed-form divided difference (EDMI_LG_CLOSED, the "
            "library default), against the paper's LG:\n\n");
-    accuracy_rows("LG closed", EDMI_LG, EDMI_LG_CLOSED, 1, &ref);
+    accuracy_rows("LG closed", EDMI_SCHEME_LG, EDMI_LG_CLOSED, 1, &ref);
     printf("\nTime for the accuracy runs (all five dt per scheme):\n");
     for (s = 0; s < n_timing; s++)
         printf("  %s\n", timing[s]);
@@ -311,8 +311,8 @@ int main(void)
            "---------|--------|-----------|\n");
     for (s = 0; s < N_SCHEMES; s++)
         drift_row(scheme_name[s], schemes[s],
-                  schemes[s] == EDMI_LG ? EDMI_LG_QUOTIENT : EDMI_LG_CLOSED);
-    drift_row("LG closed", EDMI_LG, EDMI_LG_CLOSED);
+                  schemes[s] == EDMI_SCHEME_LG ? EDMI_LG_QUOTIENT : EDMI_LG_CLOSED);
+    drift_row("LG closed", EDMI_SCHEME_LG, EDMI_LG_CLOSED);
     printf("\nmax step dH: the largest single-step increase H_{n+1} - H_n (negative: H fell at "
            "every step). LG alt: link evaluations on the Janz alternate force, summed.\n");
     return 0;

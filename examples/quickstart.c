@@ -13,7 +13,7 @@ int main(void)
     edmi_invariants inv;
     int n;
 
-    prm.scheme = EDMI_PM; /* the default: 2nd order, H never above the work and the tank */
+    prm.scheme = EDMI_SCHEME_PM; /* the default: 2nd order, H never above the work and the tank */
     if (edmi_init(&sys, &prm) != EDMI_OK || edmi_add_body(&sys, 10, q, p, NULL) != EDMI_OK ||
         edmi_add_anchor(&sys, 0, origin, &spring, NULL) != EDMI_OK)
         return 1;

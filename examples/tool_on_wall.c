@@ -90,7 +90,7 @@ static int tw_simulate(edmi_scheme scheme, tw_run *r)
 
 int main(void)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     static const char *const names[5] = {"MP", "LG", "GE", "PM", "PT"};
     int s, bad = 0;
     if (!EDMI_CONFIG_MATCHES() || EDMI_MAX_WALLS < 1) {
@@ -105,7 +105,7 @@ int main(void)
            "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (s = 0; s < 5; s++) {
         tw_run r;
-        int decaying = schemes[s] != EDMI_MP && schemes[s] != EDMI_LG;
+        int decaying = schemes[s] != EDMI_SCHEME_MP && schemes[s] != EDMI_SCHEME_LG;
         if (!tw_simulate(schemes[s], &r)) {
             printf("| %s | could not build the scene |\n", names[s]);
             bad = 1;

@@ -317,7 +317,7 @@ static void bt_put_long(long v)
 static const char *bt_unit_name(void) { return bt_cycles ? "cycles" : "instructions"; }
 
 static const char *const bt_scheme_name[] = {"MP", "LG", "GE", "PM", "PT"};
-#define BT_PM_OFF (EDMI_PT + 1) /* section 1's row: PM with the guard off */
+#define BT_PM_OFF (EDMI_SCHEME_PT + 1) /* section 1's row: PM with the guard off */
 
 /* ---- scenes ------------------------------------------------------------------------------ */
 
@@ -470,7 +470,7 @@ static int bt_scene_table(void)
     each.fallbacks = 0;
 
     /* Loop overhead: the same loop around a no-op step. */
-    if (bt_spring(EDMI_MP) != EDMI_OK)
+    if (bt_spring(EDMI_SCHEME_MP) != EDMI_OK)
         tgt_exit(TGT_EXIT_FAILED);
     bt_step = bt_null_step;
     bt_measure(BT_MEAN_STEPS, EDMI_R(1e-3), &base);
@@ -489,11 +489,11 @@ static int bt_scene_table(void)
     tgt_puts("|---|---|---:|---:|---:|---:|---:|---:|---|\n");
     /* the five schemes, PM with the guard off (BT_PM_OFF), then Verlet */
     for (scene = 0; scene < 5; scene++)
-        for (scheme = EDMI_MP; scheme <= BT_PM_OFF + verlet[scene]; scheme++) {
+        for (scheme = EDMI_SCHEME_MP; scheme <= BT_PM_OFF + verlet[scene]; scheme++) {
             unsigned long long insns;
             edmi_status s = EDMI_OK;
             int vv = scheme > BT_PM_OFF, off = scheme == BT_PM_OFF;
-            edmi_scheme sch = vv ? EDMI_MP : off ? EDMI_PM : (edmi_scheme)scheme;
+            edmi_scheme sch = vv ? EDMI_SCHEME_MP : off ? EDMI_SCHEME_PM : (edmi_scheme)scheme;
             tgt_puts("| ");
             tgt_puts(scene_name[scene]);
             tgt_puts(" | ");
@@ -556,7 +556,7 @@ static int bt_scene_table(void)
             tgt_puts(" | ");
             tgt_put_uint(run.stack);
             tgt_puts(" | ");
-            if (vv || off || scheme <= EDMI_LG) {
+            if (vv || off || scheme <= EDMI_SCHEME_LG) {
                 tgt_puts("-");
             } else {
                 tgt_put_uint((unsigned long)run.certified_plain);
@@ -620,7 +620,7 @@ static int bt_eval_table(void)
         tgt_puts("| ");
         tgt_puts(pot_name[kind]);
         tgt_puts(" |");
-        for (scheme = EDMI_MP; scheme <= EDMI_PT; scheme++) {
+        for (scheme = EDMI_SCHEME_MP; scheme <= EDMI_SCHEME_PT; scheme++) {
             edmi_params prm = edmi_default_params();
             edmi_status st;
             long e = 0;
@@ -827,11 +827,11 @@ static int bt_forced(const char *name, bt_build_fn build, edmi_real dt, void (*m
     for (k = 0; k < BT_SUB_LEVELS; k++)
         sub->insns[k] = -1;
     bt_scene_now = name;
-    bt_scheme_now = (int)EDMI_PM;
+    bt_scheme_now = (int)EDMI_SCHEME_PM;
     tgt_puts("| ");
     tgt_puts(name);
     tgt_puts(" | ");
-    if (build(EDMI_PM) != EDMI_OK) {
+    if (build(EDMI_SCHEME_PM) != EDMI_OK) {
         tgt_puts("FAILED: the scene does not build | | | | |\n");
         return 0;
     }
@@ -964,7 +964,7 @@ typedef struct bt_piece_scene {
 static int bt_bound_section(void)
 {
     static const unsigned long lmax[3] = {4UL, 8UL, (unsigned long)BT_LMAX_SEARCH};
-    static const edmi_scheme guarded[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme guarded[3] = {EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     static bt_pieces pc;
     const bt_piece_scene scenes[4] = {{"capacity", bt_full, BT_FULL_DT, bt_full_move, 1},
                                       {"spring", bt_spring, EDMI_R(1e-3), NULL, 1},

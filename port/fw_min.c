@@ -21,7 +21,7 @@ int main(void)
     edmi_params prm = edmi_default_params();
     edmi_invariants inv;
     int k;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     if (edmi_init(&fw_sys, &prm) != EDMI_OK ||
         edmi_add_body(&fw_sys, EDMI_R(10.0), q, p, NULL) != EDMI_OK ||
         edmi_add_anchor(&fw_sys, 0, origin, &spring, NULL) != EDMI_OK)

@@ -192,7 +192,7 @@ static edmi_status ht_build(int *tool, int *link)
     edmi_real q[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_real p[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_status s;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.fallback = 1;
     prm.substep_levels = HT_WALL ? 3 : 0; /* PM's force jumps where a contact begins */
     q[0] = hh_position(EDMI_R(0.0));
@@ -335,11 +335,11 @@ int main(void)
             max_iterations = res.iterations;
         fallbacks += res.stop == EDMI_STOP_FALLBACK;
         guarded += res.guard_action != 0U;
-        by_action[0] += (res.guard_action & EDMI_GUARD_ROUND) != 0U;
-        by_action[1] += (res.guard_action & EDMI_GUARD_IMPULSE) != 0U;
-        by_action[2] += (res.guard_action & EDMI_GUARD_DRAG) != 0U;
-        c = (res.guard_action & EDMI_GUARD_DRAG) != 0U      ? 3
-            : (res.guard_action & EDMI_GUARD_IMPULSE) != 0U ? 2
+        by_action[0] += (res.guard_action & EDMI_MOVE_ROUND) != 0U;
+        by_action[1] += (res.guard_action & EDMI_MOVE_IMPULSE) != 0U;
+        by_action[2] += (res.guard_action & EDMI_MOVE_DRAG) != 0U;
+        c = (res.guard_action & EDMI_MOVE_DRAG) != 0U      ? 3
+            : (res.guard_action & EDMI_MOVE_IMPULSE) != 0U ? 2
             : res.guard_action != 0U                        ? 1
                                                             : 0;
         class_n[c]++;

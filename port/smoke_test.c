@@ -37,7 +37,7 @@ int main(void)
     int k, ok = 1;
 
     th_suite("smoke: the paper's spring, 100 PM steps");
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     CHECK_STATUS(edmi_init(&sm_sys, &prm), EDMI_OK);
     CHECK_STATUS(edmi_add_body(&sm_sys, EDMI_R(10.0), q, p, NULL), EDMI_OK);
     CHECK_STATUS(edmi_add_anchor(&sm_sys, 0, origin, &spring, NULL), EDMI_OK);

@@ -169,7 +169,7 @@ static int measure(const study_scene *sc, int k, int scheme)
     edmi_status s;
     if (n > STUDY_STEPS)
         n = STUDY_STEPS;
-    s = sc->build(scheme < 0 ? EDMI_PM : (edmi_scheme)scheme);
+    s = sc->build(scheme < 0 ? EDMI_SCHEME_PM : (edmi_scheme)scheme);
     if (s != EDMI_OK)
         return 1;
     if (scheme < 0)
@@ -216,7 +216,7 @@ static int measure(const study_scene *sc, int k, int scheme)
 
 int main(void)
 {
-    static const int others[] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PT, -1};
+    static const int others[] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PT, -1};
     size_t i;
     int k, o, failed = 0;
     (void)bs_pairs; /* port/bench_scenes.h's all-pairs scene: not one of the study's */
@@ -230,7 +230,7 @@ int main(void)
     for (i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         const study_scene *sc = &scenes[i];
         for (k = 0; k < sc->n_dt; k++)
-            failed |= measure(sc, k, EDMI_PM);
+            failed |= measure(sc, k, EDMI_SCHEME_PM);
         for (o = 0; o < 5; o++)
             if (others[o] >= 0 || sc->verlet)
                 failed |= measure(sc, sc->mid, others[o]);

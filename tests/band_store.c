@@ -91,7 +91,7 @@ static void bs_refusals(void)
     edmi_link links[1];
     edmi_body bodies[3];
     int a;
-    bs_check(bs_chain(EDMI_PM) == EDMI_OK, "the chain of 63 bodies fits the band store");
+    bs_check(bs_chain(EDMI_SCHEME_PM) == EDMI_OK, "the chain of 63 bodies fits the band store");
     memcpy(&bs_copy, &bs_sys, sizeof bs_sys);
     bs_check(edmi_add_body(&bs_sys, EDMI_R(1.0), q, p, NULL) == EDMI_ERR_CAPACITY && bs_same(),
              "a 64th body is refused, nothing changed");
@@ -116,7 +116,7 @@ static void bs_refusals(void)
     scene.n_links = 1;
     scene.links = links;
     bs_check(edmi_load_scene(&bs_sys, &scene) == EDMI_OK, "3 bodies with a gap-2 link fit");
-    bs_check(bs_chain(EDMI_PM) == EDMI_OK, "the chain again");
+    bs_check(bs_chain(EDMI_SCHEME_PM) == EDMI_OK, "the chain again");
     memcpy(&bs_copy, &bs_sys, sizeof bs_sys);
     {
         static edmi_body many[BS_N];
@@ -139,7 +139,7 @@ int main(void)
 #ifdef BAND_NARROW
     bs_refusals();
 #endif
-    for (scheme = EDMI_MP; scheme <= EDMI_PT; scheme++) {
+    for (scheme = EDMI_SCHEME_MP; scheme <= EDMI_SCHEME_PT; scheme++) {
         edmi_status s = bs_chain((edmi_scheme)scheme);
         for (k = 0; k < BS_STEPS && s == EDMI_OK; k++)
             s = edmi_step(&bs_sys, &bs_work, EDMI_R(1e-3), NULL);

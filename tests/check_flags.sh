@@ -195,8 +195,8 @@ feat_coupling="-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0 -DEDMI_WITH_GE=0 -DEDMI_WITH_PT
     -DEDMI_WITH_USER=0 -DEDMI_WITH_CONTACT=0 -DEDMI_WITH_FIELD=0 -DEDMI_WITH_PORTS=0
     -DEDMI_WITH_SCENE=0 -DEDMI_MAX_DAMPERS=0"
 for real in float double; do
-    for cfg in "coupling|EDMI_PM|$feat_coupling" "decaying|EDMI_GE|-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0" \
-            "conservative|EDMI_LG|-DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0 -DEDMI_WITH_GUARD=0"; do
+    for cfg in "coupling|EDMI_SCHEME_PM|$feat_coupling" "decaying|EDMI_SCHEME_GE|-DEDMI_WITH_MP=0 -DEDMI_WITH_LG=0" \
+            "conservative|EDMI_SCHEME_LG|-DEDMI_WITH_GE=0 -DEDMI_WITH_PM=0 -DEDMI_WITH_PT=0 -DEDMI_WITH_GUARD=0"; do
         name=${cfg%%|*} rest=${cfg#*|}
         scheme=${rest%%|*} defs=${rest#*|}
         ok=1

@@ -19,7 +19,7 @@ static void check(bool ok, const char *what)
 int main()
 {
     edmi_params prm = edmi_default_params();
-    check(prm.scheme == EDMI_PM && prm.l_max == 20, "edmi_default_params(): PM, l_max 20");
+    check(prm.scheme == EDMI_SCHEME_PM && prm.l_max == 20, "edmi_default_params(): PM, l_max 20");
     check(prm.tol_r == 0 && prm.tol_a == 0 && prm.tol_q > 0 && prm.guard == EDMI_GUARD_AUTO,
           "edmi_default_params(): Newton to its floor, guard auto");
     check(edmi_is_double_precision() == (sizeof(edmi_real) == sizeof(double) ? 1 : 0),
@@ -31,7 +31,7 @@ int main()
     const edmi_real q[3] = {1, 0, 0}, p[3] = {0, 1, 0}, origin[3] = {0, 0, 0};
     edmi_potential spring = edmi_pot_harmonic(1, 0);
     edmi_step_result res;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     check(edmi_init(&sys, &prm) == EDMI_OK, "edmi_init");
     check(edmi_add_body(&sys, 1, q, p, NULL) == EDMI_OK, "edmi_add_body");
     check(edmi_add_anchor(&sys, 0, origin, &spring, NULL) == EDMI_OK, "edmi_add_anchor");

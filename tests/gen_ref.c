@@ -18,7 +18,7 @@
 #define GR_ND 3
 #define GR_DELTA 1e-7
 
-static const edmi_scheme gr_schemes[GR_NS] = {EDMI_GE, EDMI_MP, EDMI_LG, EDMI_PM, EDMI_PT};
+static const edmi_scheme gr_schemes[GR_NS] = {EDMI_SCHEME_GE, EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 static const char *const gr_names[GR_NS] = {"GE", "MP", "LG", "PM", "PT"};
 static const double gr_dt[GR_ND] = {1e-1, 5e-2, 1e-2};
 static const long gr_steps[GR_ND] = {10, 20, 100};
@@ -110,8 +110,8 @@ int main(void)
            " * tests/gen_ref.c for what the growth factors are. */\n"
            "#ifndef EDMI_TEST_REF_TRACK_H\n#define EDMI_TEST_REF_TRACK_H\n\n"
            "#define RT_NS %d\n#define RT_ND %d\n", GR_NS, GR_ND);
-    printf("static const edmi_scheme rt_schemes[RT_NS] = {EDMI_GE, EDMI_MP, EDMI_LG, EDMI_PM, "
-           "EDMI_PT};\n");
+    printf("static const edmi_scheme rt_schemes[RT_NS] = {EDMI_SCHEME_GE, EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_PM, "
+           "EDMI_SCHEME_PT};\n");
     printf("static const char *const rt_names[RT_NS] = {\"GE\", \"MP\", \"LG\", \"PM\", \"PT\"};\n");
     printf("static const long double rt_dt[RT_ND] = {1e-1L, 5e-2L, 1e-2L};\n");
     printf("static const long rt_steps[RT_ND] = {%ld, %ld, %ld};\n", gr_steps[0], gr_steps[1], gr_steps[2]);

@@ -163,11 +163,11 @@ int th_failed(void) { return (int)th_nfail; }
 int th_has_scheme(edmi_scheme s)
 {
     switch (s) {
-    case EDMI_MP: return EDMI_WITH_MP;
-    case EDMI_LG: return EDMI_WITH_LG;
-    case EDMI_GE: return EDMI_WITH_GE;
-    case EDMI_PM: return EDMI_WITH_PM;
-    case EDMI_PT: return EDMI_WITH_PT;
+    case EDMI_SCHEME_MP: return EDMI_WITH_MP;
+    case EDMI_SCHEME_LG: return EDMI_WITH_LG;
+    case EDMI_SCHEME_GE: return EDMI_WITH_GE;
+    case EDMI_SCHEME_PM: return EDMI_WITH_PM;
+    case EDMI_SCHEME_PT: return EDMI_WITH_PT;
     default: return 0;
     }
 }
@@ -190,7 +190,7 @@ int th_has_pot(edmi_pot_kind k)
 int th_has_params(const edmi_params *p)
 {
     return th_has_scheme(p->scheme) &&
-           (p->scheme != EDMI_LG || p->lg_form != EDMI_LG_QUOTIENT || EDMI_WITH_LG_QUOTIENT) &&
+           (p->scheme != EDMI_SCHEME_LG || p->lg_form != EDMI_LG_QUOTIENT || EDMI_WITH_LG_QUOTIENT) &&
            (p->guard != EDMI_GUARD_ON || EDMI_WITH_GUARD);
 }
 
@@ -203,7 +203,7 @@ int th_has_system(const edmi_system *sys)
     for (j = 0; j < sys->n_links; j++) {
         const edmi_potential *pot = &sys->link[j].pot;
         if (!th_has_pot(pot->kind) ||
-            (pot->kind == EDMI_POT_USER && !pot->dd && sys->params.scheme == EDMI_LG &&
+            (pot->kind == EDMI_POT_USER && !pot->dd && sys->params.scheme == EDMI_SCHEME_LG &&
              !EDMI_WITH_LG_QUOTIENT))
             return 0;
     }

@@ -236,7 +236,7 @@ static void mm_scene(void)
     edmi_scene sc;
     edmi_status st;
     int a;
-    MM_CHECK(mm_cable(EDMI_PM, 1) == EDMI_OK, "coupled cable builds");
+    MM_CHECK(mm_cable(EDMI_SCHEME_PM, 1) == EDMI_OK, "coupled cable builds");
     built = mm_sys;
     memset(&sc, 0, sizeof sc);
     for (a = 0; a < MM_N; a++)
@@ -289,7 +289,7 @@ static void mm_scene(void)
 static void mm_refusals(void)
 {
     edmi_real dt = EDMI_R(1e-3), big;
-    MM_CHECK(mm_cable(EDMI_PM, 1) == EDMI_OK, "coupled cable builds");
+    MM_CHECK(mm_cable(EDMI_SCHEME_PM, 1) == EDMI_OK, "coupled cable builds");
     mm_copy = mm_sys;
 #define MM_REFUSE(call, want, what)                                                            \
     MM_CHECK((call) == (want) && memcmp(&mm_sys, &mm_copy, sizeof mm_sys) == 0, what)
@@ -320,7 +320,7 @@ static void mm_refusals(void)
                  "... and edmi_invariants_of EDMI_ERR_MASS");
     }
 #undef MM_REFUSE
-    MM_CHECK(mm_cable(EDMI_PM, 1) == EDMI_OK &&
+    MM_CHECK(mm_cable(EDMI_SCHEME_PM, 1) == EDMI_OK &&
                  edmi_set_mass_coupling(&mm_sys, 2, 3, EDMI_R(0.0)) == EDMI_OK &&
                  mm_sys.mass_off[3][0] == EDMI_R(0.0),
              "a coupling set to 0 uncouples the bodies");
@@ -380,7 +380,7 @@ static void mm_scheme(edmi_scheme scheme, int steps, edmi_real dt)
             }
         if (fe > worst_fe)
             worst_fe = fe;
-        if (scheme == EDMI_MP) { /* p1 - p0 = -dt beta r_m, beta = V'(d_m)/d_m at the mid-point,
+        if (scheme == EDMI_SCHEME_MP) { /* p1 - p0 = -dt beta r_m, beta = V'(d_m)/d_m at the mid-point,
                                     relative to |p1 - p0| + |p1| + dt k (d_m^2 + L^2) |r_m| */
             long double rp[MM_N][3], mag[MM_N];
             for (a = 0; a < MM_N; a++) {
@@ -451,7 +451,7 @@ static void mm_scheme(edmi_scheme scheme, int steps, edmi_real dt)
      * of the truth's, 8 of them: a sum of 8 products, each rounded) */
     MM_REPORT(worst_fe <= 64.0L * eps + 8.0L * MM_LD_EPS, who,
               ": M (q1 - q0) = dt p_n+1/2 within 64 eps of its terms", 1, worst_fe, 0.0L, 0.0L);
-    if (scheme == EDMI_MP)
+    if (scheme == EDMI_SCHEME_MP)
         MM_REPORT(worst_mp <= 64.0L * eps + 8.0L * MM_LD_EPS, who,
                   ": p1 - p0 = -dt V'(d_m)/d_m r_m within 64 eps of its terms", 1, worst_mp,
                   0.0L, 0.0L);
@@ -466,11 +466,11 @@ static void mm_scheme(edmi_scheme scheme, int steps, edmi_real dt)
               ": the library's K (a banded Cholesky solve) within 64 eps of Gaussian "
               "elimination",
               1, worst_k, 0.0L, 0.0L);
-    if (scheme == EDMI_LG)
+    if (scheme == EDMI_SCHEME_LG)
         MM_REPORT(worst_lg <= 8.0L * eps * h0 * steps, who,
                   ": conserves H, |H - H0| <= 8 eps H0 per step (/ H0)", 1, worst_lg / h0,
                   0.0L, 0.0L);
-    else if (scheme != EDMI_MP)
+    else if (scheme != EDMI_SCHEME_MP)
         MM_REPORT(worst_rise <= 8.0L * eps * h0, who,
                   ": H never rises beyond the state's rounding, 8 eps H0 (largest rise / H0)",
                   1, worst_rise / h0, 0.0L, 0.0L);
@@ -492,7 +492,7 @@ static void mm_guarded(edmi_scheme scheme, int steps, edmi_real dt)
     MM_CHECK(mm_cable(scheme, 1) == EDMI_OK, "coupled cable builds");
     mm_sys.params.guard = EDMI_GUARD_AUTO;
     mm_sys.params.energy_balance = 1;
-    mm_sys.params.tol_r = scheme == EDMI_PM ? EDMI_R(1e-6) : EDMI_R(0.0); /* the guard's work */
+    mm_sys.params.tol_r = scheme == EDMI_SCHEME_PM ? EDMI_R(1e-6) : EDMI_R(0.0); /* the guard's work */
     mm_momenta(&mm_sys, l0, j0, c0);
     hprev = mm_h(&mm_sys, &kin);
     for (a = 0; a < MM_N; a++)
@@ -546,7 +546,7 @@ static void mm_fallback(void)
     edmi_status st;
     tp_delta d;
     int rose = 1;
-    mm_cable(EDMI_PM, 1);
+    mm_cable(EDMI_SCHEME_PM, 1);
     mm_sys.params.guard = EDMI_GUARD_AUTO;
     mm_sys.params.fallback = 1;
     mm_sys.params.l_max = 1;
@@ -637,7 +637,7 @@ static void mm_modes(int consistent, long double *w_fe, long double *w_run, long
     /* the run: the bar along x at rest lengths, displaced by 1e-2 L times the mode (a
      * linear system: any amplitude; a much smaller one, 1e-4 L, is below what float's
      * guard can certify, its positions' rounding outweighing the mode's kinetic energy) */
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     edmi_init(&mm_sys, &prm);
     for (i = 0; i < MM_N; i++) {
         edmi_real q[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)}, p[3] = {EDMI_R(0.0), EDMI_R(0.0),
@@ -715,10 +715,10 @@ static void mm_orders(void)
 {
     static edmi_real ref[MM_N][3];
     edmi_scheme s;
-    for (s = EDMI_MP; s <= EDMI_PT; s = (edmi_scheme)(s + 1)) {
-        const edmi_real dt = s == EDMI_GE ? EDMI_R(5e-4) : EDMI_R(4e-3);
-        const int steps = s == EDMI_GE ? 200 : 25; /* T = 0.1 */
-        const long double want = s == EDMI_GE ? 1.0L : 2.0L;
+    for (s = EDMI_SCHEME_MP; s <= EDMI_SCHEME_PT; s = (edmi_scheme)(s + 1)) {
+        const edmi_real dt = s == EDMI_SCHEME_GE ? EDMI_R(5e-4) : EDMI_R(4e-3);
+        const int steps = s == EDMI_SCHEME_GE ? 200 : 25; /* T = 0.1 */
+        const long double want = s == EDMI_SCHEME_GE ? 1.0L : 2.0L;
         long double e1, e2, order;
         int a, c, n;
         mm_cable(s, 1);
@@ -752,7 +752,7 @@ static long mm_hanging(int consistent, long *rises)
     edmi_status st;
     long drags = 0;
     int a, n;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     *rises = -1;
     st = edmi_init(&mm_sys, &prm);
     for (a = 0; a < MM_N && st == EDMI_OK; a++) {
@@ -784,7 +784,7 @@ static long mm_hanging(int consistent, long *rises)
             *rises = -1;
             return -1;
         }
-        drags += (res.guard_action & EDMI_GUARD_DRAG) != 0;
+        drags += (res.guard_action & EDMI_MOVE_DRAG) != 0;
         *rises += d.broken; /* dh > w + err, decided in tp_q */
     }
     return drags;
@@ -809,14 +809,14 @@ static void mm_lumped_differs(void)
     static edmi_real q_lumped[MM_N][3];
     long double diff, err;
     int a, c, n;
-    mm_cable(EDMI_PM, 0);
+    mm_cable(EDMI_SCHEME_PM, 0);
     for (n = 0; n < 100; n++)
         edmi_step(&mm_sys, &mm_work, EDMI_R(1e-3), NULL);
     for (a = 0; a < MM_N; a++)
         for (c = 0; c < 3; c++)
             q_lumped[a][c] = mm_sys.body[a].q[c];
-    diff = mm_error(EDMI_PM, EDMI_R(1e-3), 100, 1, q_lumped);
-    err = mm_error(EDMI_PM, EDMI_R(5e-4), 200, 1, q_lumped);
+    diff = mm_error(EDMI_SCHEME_PM, EDMI_R(1e-3), 100, 1, q_lumped);
+    err = mm_error(EDMI_SCHEME_PM, EDMI_R(5e-4), 200, 1, q_lumped);
     MM_REPORT(diff > 1e-4L && mm_abs(diff - err) < 0.05L * diff, "consistent against lumped",
               " mass after 0.1: the tips part by (dt 1e-3; dt 5e-4), not a time-step effect",
               2, diff, err, 0.0L);
@@ -839,7 +839,7 @@ static void mm_hard_run(int nb, edmi_real m, edmi_real mc, int levels, const cha
     edmi_step_result res;
     long n, ok = 0, fb = 0, split = 0, broken = 0;
     int i;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.fallback = 1;
     prm.substep_levels = levels;
     MM_CHECK(edmi_init(&mm_sys, &prm) == EDMI_OK, "init");
@@ -883,9 +883,9 @@ int main(void)
     th_newline();
     mm_refusals();
     mm_scene();
-    for (s = EDMI_MP; s <= EDMI_PT; s = (edmi_scheme)(s + 1))
+    for (s = EDMI_SCHEME_MP; s <= EDMI_SCHEME_PT; s = (edmi_scheme)(s + 1))
         mm_scheme(s, 400, EDMI_R(1e-3));
-    for (s = EDMI_GE; s <= EDMI_PT; s = (edmi_scheme)(s + 1))
+    for (s = EDMI_SCHEME_GE; s <= EDMI_SCHEME_PT; s = (edmi_scheme)(s + 1))
         mm_guarded(s, 400, EDMI_R(1e-3));
     mm_fallback();
     mm_hard();

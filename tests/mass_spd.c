@@ -164,7 +164,7 @@ static edmi_status ms_build(ms_scene_id sc, edmi_scheme s, int *refused)
     edmi_status st;
     int a, b, c;
     prm.scheme = s;
-    if (s == EDMI_MP || s == EDMI_LG)
+    if (s == EDMI_SCHEME_MP || s == EDMI_SCHEME_LG)
         prm.guard = EDMI_GUARD_ON;
     *refused = 0;
     st = edmi_init(&ms_sys, &prm);
@@ -464,7 +464,7 @@ static void ms_run(ms_scene_id sc, edmi_scheme s)
         iters += res.iterations;
         fallbacks += res.stop == EDMI_STOP_FALLBACK;
         guarded += res.guard_action != 0u;
-        drags += (res.guard_action & EDMI_GUARD_DRAG) != 0u;
+        drags += (res.guard_action & EDMI_MOVE_DRAG) != 0u;
         /* the step: H_n+1 - H_n <= T_n - T_n+1 (no work) */
         dh = ms_energy(&ms_old, &ms_sys, kappa, &err);
         w = (ms_q)ms_old.tank - (ms_q)ms_sys.tank;
@@ -646,7 +646,7 @@ static void ms_refusals(void)
     /* The consistent matrices are accepted by edmi_load_scene too: the scene loads into the
      * system edmi_set_mass_coupling built, byte for byte. */
     for (sc = 0; sc < MS_NSCENES; sc++) {
-        int ok = ms_build((ms_scene_id)sc, EDMI_PM, &refused) == EDMI_OK && refused == 0;
+        int ok = ms_build((ms_scene_id)sc, EDMI_SCHEME_PM, &refused) == EDMI_OK && refused == 0;
         ms_built = ms_sys;
         ms_scene_of(&ms_built, ms_off(ms_nb[sc]), &scene);
         memset(&ms_sys, 0, sizeof ms_sys);
@@ -673,7 +673,7 @@ int main(void)
     th_newline();
     ms_refusals();
     for (sc = 0; sc < MS_NSCENES; sc++)
-        for (s = EDMI_MP; s <= EDMI_PT; s = (edmi_scheme)(s + 1))
+        for (s = EDMI_SCHEME_MP; s <= EDMI_SCHEME_PT; s = (edmi_scheme)(s + 1))
             ms_run((ms_scene_id)sc, s);
     return th_finish() == 0 ? 0 : 1;
 }

@@ -1527,7 +1527,7 @@ int tp_rest_in(tp_rest s, const edmi_params *prm, int damper, int user_dd)
         break;
     case TP_REST_USER:
         pot = EDMI_WITH_USER && EDMI_WITH_HARMONIC &&
-              (user_dd || prm->scheme != EDMI_LG || EDMI_WITH_LG_QUOTIENT);
+              (user_dd || prm->scheme != EDMI_SCHEME_LG || EDMI_WITH_LG_QUOTIENT);
         break;
     default:
         pot = EDMI_WITH_HARMONIC;
@@ -1750,7 +1750,7 @@ long double tp_rest_bound(tp_rest s, long double qmax)
 static int tp_guard_on(const edmi_params *p)
 {
     return p->guard == EDMI_GUARD_ON ||
-           (p->guard == EDMI_GUARD_AUTO && p->scheme != EDMI_MP && p->scheme != EDMI_LG);
+           (p->guard == EDMI_GUARD_AUTO && p->scheme != EDMI_SCHEME_MP && p->scheme != EDMI_SCHEME_LG);
 }
 
 static edmi_system tp_ref;
@@ -1796,7 +1796,7 @@ void tp_rest_run(tp_rest s, const edmi_params *prm, int damper, int user_dd, lon
         st->steps++;
         st->fallbacks += res.stop == EDMI_STOP_FALLBACK;
         st->scaled += res.certificate == EDMI_CERT_SCALED;
-        st->stops += (res.guard_action & EDMI_GUARD_STOP) != 0;
+        st->stops += (res.guard_action & EDMI_MOVE_STOP) != 0;
         st->guarded += res.guard_action != 0;
         if (memcmp(tp_old.body, tp_sys.body, (size_t)tp_sys.n_bodies * sizeof tp_sys.body[0]))
             st->last_change = k;
@@ -2004,7 +2004,7 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         if (lk->b != EDMI_ANCHOR)
             tp_pm[lk->b] += x;
     }
-    if (s0->params.scheme == EDMI_LG)
+    if (s0->params.scheme == EDMI_SCHEME_LG)
         for (j = 0; j < s0->n_links; j++) { /* the quotient's cancellation, where it is used */
             const edmi_link *lk = &s0->link[j];
             const edmi_real *xb1;

@@ -251,7 +251,7 @@ typedef struct tp_rest_stats {
     edmi_real fail_q[3], fail_p[3], fail_tank; /* body 0 and the tank before it */
     long fallbacks;        /* res.stop == EDMI_STOP_FALLBACK */
     long scaled;           /* res.certificate == EDMI_CERT_SCALED */
-    long stops;            /* res.guard_action & EDMI_GUARD_STOP */
+    long stops;            /* res.guard_action & EDMI_MOVE_STOP */
     long guarded;          /* res.guard_action != 0 */
     long uncertified;      /* guard on and res.certificate == EDMI_CERT_NONE */
     long violations;       /* tp_rest_delta refused the step */

@@ -6,7 +6,7 @@
 
 #define RT_NS 5
 #define RT_ND 3
-static const edmi_scheme rt_schemes[RT_NS] = {EDMI_GE, EDMI_MP, EDMI_LG, EDMI_PM, EDMI_PT};
+static const edmi_scheme rt_schemes[RT_NS] = {EDMI_SCHEME_GE, EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 static const char *const rt_names[RT_NS] = {"GE", "MP", "LG", "PM", "PT"};
 static const long double rt_dt[RT_ND] = {1e-1L, 5e-2L, 1e-2L};
 static const long rt_steps[RT_ND] = {10, 20, 100};

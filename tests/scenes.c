@@ -253,8 +253,8 @@ static edmi_status ts__links(const edmi_system *s0, const edmi_system *s1, ts_la
 {
     const edmi_params *prm = &s0->params;
     int j;
-    law->has_law = prm->scheme != EDMI_MP &&
-                   !(prm->scheme == EDMI_LG && prm->lg_form != EDMI_LG_CLOSED);
+    law->has_law = prm->scheme != EDMI_SCHEME_MP &&
+                   !(prm->scheme == EDMI_SCHEME_LG && prm->lg_form != EDMI_LG_CLOSED);
     law->d_lo = law->d_hi = EDMI_R(0.0);
     law->dmin = EDMI_REAL_MAX;
     for (j = 0; j < s0->n_links; j++) {
@@ -276,14 +276,14 @@ static edmi_status ts__links(const edmi_system *s0, const edmi_system *s1, ts_la
                 ts_abs(b.v[1]) * ts__end_norms(s1, lk);
         dd = d1 - d0;
         switch (prm->scheme) {
-        case EDMI_GE:
+        case EDMI_SCHEME_GE:
             w = EDMI_R(0.5) * dd * dd;
             lo = w * (ts_min(a.c[2], b.c[2]) - ts_max(a.e[2], b.e[2]));
             hi = w * (ts_max(a.c[2], b.c[2]) - ts_min(a.e[2], b.e[2]));
             break;
-        case EDMI_PM:
-        case EDMI_PT:
-            w = dd * dd * dd * dd / (prm->scheme == EDMI_PM ? EDMI_R(48.0) : EDMI_R(24.0));
+        case EDMI_SCHEME_PM:
+        case EDMI_SCHEME_PT:
+            w = dd * dd * dd * dd / (prm->scheme == EDMI_SCHEME_PM ? EDMI_R(48.0) : EDMI_R(24.0));
             lo = w * (ts_min(a.sp[4], b.sp[4]) - ts_max(a.sm[4], b.sm[4]));
             hi = w * (ts_max(a.sp[4], b.sp[4]) - ts_min(a.sm[4], b.sm[4]));
             break;

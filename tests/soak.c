@@ -26,7 +26,7 @@
  * H0 over 10^6 steps (double PM itself loses 3.8e-4 H0 there: its dissipation law). */
 #define SOAK_SPRING_DRIFT 5e-3L
 
-static const edmi_scheme soak_schemes[5] = {EDMI_GE, EDMI_PM, EDMI_PT, EDMI_LG, EDMI_MP};
+static const edmi_scheme soak_schemes[5] = {EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT, EDMI_SCHEME_LG, EDMI_SCHEME_MP};
 static const char *const soak_names[5] = {"GE", "PM", "PT", "LG+guard", "MP+guard"};
 
 /* Rest is a fixed point, and user potentials are guarded as the built-ins are (the scenes of
@@ -39,7 +39,7 @@ static const char *const soak_names[5] = {"GE", "PM", "PT", "LG+guard", "MP+guar
  * TP_USER_DH eps n H0 of the built-in's energy and TP_USER_DQ eps n^2 max |q_ref| of its
  * positions (in float the latter exceeds the orbit's size by 10^6 steps: no constraint).
  * Columns: steps; fail, failed steps (the run stops at the first); fallb; scaled, steps
- * certified with EDMI_CERT_SCALED; stops, steps with EDMI_GUARD_STOP; guarded, steps the
+ * certified with EDMI_CERT_SCALED; stops, steps with EDMI_MOVE_STOP; guarded, steps the
  * guard changed; viol, steps tp_rest_delta refused; final dist, how far from rest at the end
  * (link length, or its distance from the rest length); last chg, the last step that changed
  * a body. MP and LG with the guard off (their default) are reported, not held to the
@@ -56,7 +56,7 @@ static void soak_rest_case(tp_rest sc, edmi_scheme s, edmi_guard_mode g, int dam
     int guard;
     prm.scheme = s;
     prm.guard = g;
-    guard = g == EDMI_GUARD_ON || (g == EDMI_GUARD_AUTO && s != EDMI_MP && s != EDMI_LG);
+    guard = g == EDMI_GUARD_ON || (g == EDMI_GUARD_AUTO && s != EDMI_SCHEME_MP && s != EDMI_SCHEME_LG);
     tp_rest_run(sc, &prm, damper, 1, n, &st);
     snprintf(label, sizeof label, "%s%s%s", names[s],
              g == EDMI_GUARD_ON ? "+guard" : guard ? "" : " (off)", damper ? "+damper" : "");
@@ -98,21 +98,21 @@ static void soak_rest_case(tp_rest sc, edmi_scheme s, edmi_guard_mode g, int dam
 
 static void soak_rest(long n)
 {
-    static const edmi_scheme damped[4] = {EDMI_PM, EDMI_PT, EDMI_LG, EDMI_MP};
+    static const edmi_scheme damped[4] = {EDMI_SCHEME_PM, EDMI_SCHEME_PT, EDMI_SCHEME_LG, EDMI_SCHEME_MP};
     int k, sc;
     printf("%-48s %-15s %8s %4s %5s %8s %5s %7s %5s %10s %8s\n", "scene", "scheme", "steps",
            "fail", "fallb", "scaled", "stops", "guarded", "viol", "final dist", "last chg");
-    soak_rest_case(TP_REST_ANCHOR, EDMI_GE, EDMI_GUARD_AUTO, 0, n);
+    soak_rest_case(TP_REST_ANCHOR, EDMI_SCHEME_GE, EDMI_GUARD_AUTO, 0, n);
     for (k = 0; k < 4; k++)
         soak_rest_case(TP_REST_ANCHOR, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1, n);
-    soak_rest_case(TP_REST_ANCHOR, EDMI_LG, EDMI_GUARD_AUTO, 1, n);
-    soak_rest_case(TP_REST_ANCHOR, EDMI_MP, EDMI_GUARD_AUTO, 1, n);
+    soak_rest_case(TP_REST_ANCHOR, EDMI_SCHEME_LG, EDMI_GUARD_AUTO, 1, n);
+    soak_rest_case(TP_REST_ANCHOR, EDMI_SCHEME_MP, EDMI_GUARD_AUTO, 1, n);
     for (sc = TP_REST_ON_ANCHOR; sc <= TP_REST_PAIR_OFF; sc++) {
-        soak_rest_case((tp_rest)sc, EDMI_GE, EDMI_GUARD_AUTO, 1, n);
+        soak_rest_case((tp_rest)sc, EDMI_SCHEME_GE, EDMI_GUARD_AUTO, 1, n);
         for (k = 0; k < 4; k++)
             soak_rest_case((tp_rest)sc, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1, n);
     }
-    soak_rest_case(TP_REST_USER, EDMI_GE, EDMI_GUARD_ON, 0, n);
+    soak_rest_case(TP_REST_USER, EDMI_SCHEME_GE, EDMI_GUARD_ON, 0, n);
     for (k = 0; k < 4; k++)
         soak_rest_case(TP_REST_USER, damped[k], EDMI_GUARD_ON, 0, n);
 }
@@ -163,7 +163,7 @@ int main(int argc, char **argv)
              * EDMI_GUARD_ON, off their default, may fall back (reported) */
             if (s != TP_STIFF && k < 3)
                 CHECK(st.fallbacks == 0);
-            if (s == TP_SPRING && soak_schemes[k] == EDMI_PM) {
+            if (s == TP_SPRING && soak_schemes[k] == EDMI_SCHEME_PM) {
                 long double drift = (st.h_last - st.h0) / scale;
                 CHECK(drift <= 0.0L && -drift <= SOAK_SPRING_DRIFT);
             }
@@ -175,7 +175,7 @@ int main(int argc, char **argv)
          * check without the guard). */
         edmi_params prm = edmi_default_params();
         tp_stats st;
-        prm.scheme = EDMI_PM;
+        prm.scheme = EDMI_SCHEME_PM;
         prm.guard = EDMI_GUARD_OFF;
         tp_run(TP_SPRING, &prm, n, &st);
         printf("reference, guard off: paper spring PM: %ld steps %s, H rose on %ld (%.1f %%), "

@@ -245,7 +245,7 @@ static int tc_simulate(int pair, edmi_scheme scheme, tc_run *out)
 }
 
 /* Every scheme (the runs that compare them all). */
-static const edmi_scheme tc_all[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+static const edmi_scheme tc_all[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 
 static void tc_check_runs(int pair)
 {
@@ -254,7 +254,7 @@ static void tc_check_runs(int pair)
     int s;
     for (s = 0; s < 5; s++) {
         tc_run r;
-        int decaying = schemes[s] != EDMI_MP && schemes[s] != EDMI_LG;
+        int decaying = schemes[s] != EDMI_SCHEME_MP && schemes[s] != EDMI_SCHEME_LG;
         if (!th_has_scheme(schemes[s]))
             continue;
         if (!CHECK(tc_simulate(pair, schemes[s], &r)))
@@ -289,7 +289,7 @@ static void tc_check_runs(int pair)
              * empty tank, or to cover rounding), and no window of steps broken */
             CHECK(r.dsmin >= -64.0L * eps * r.h0);
             CHECK(r.broken == 0 && r.dh <= 0.0L);
-        } else if (schemes[s] == EDMI_LG) { /* conserving: H to Newton's tolerance */
+        } else if (schemes[s] == EDMI_SCHEME_LG) { /* conserving: H to Newton's tolerance */
             CHECK(tc_abs(r.dh) <= 1e-6L * r.h0 + 4096.0L * eps * r.h0);
         }
     }
@@ -299,7 +299,7 @@ static void tc_check_runs(int pair)
 /* ---- walls ------------------------------------------------------------------------------ */
 
 /* The schemes whose energy decays: the hard cases against walls. */
-static const edmi_scheme tc_decaying[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
+static const edmi_scheme tc_decaying[3] = {EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 
 /* What a run of steps did, as the issue's hard cases report it: steps that failed, were split
  * into substeps or fell back, windows broken (or not evaluated), guard moves, and the largest
@@ -487,7 +487,7 @@ static void tc_check_ball(int tilt)
     int s;
     for (s = 0; s < 5; s++) {
         tc_bounce r;
-        int clean, decaying = schemes[s] != EDMI_MP && schemes[s] != EDMI_LG;
+        int clean, decaying = schemes[s] != EDMI_SCHEME_MP && schemes[s] != EDMI_SCHEME_LG;
         if (!th_has_scheme(schemes[s]))
             continue;
         if (!CHECK(tc_ball(schemes[s], tilt, &r)))
@@ -523,7 +523,7 @@ static void tc_check_ball(int tilt)
             CHECK(r.dpt == 0.0L);
         if (decaying) {
             CHECK(clean && r.dh <= 0.0L && r.rest1 <= 1.0L);
-        } else if (schemes[s] == EDMI_LG) { /* energy kept: a rebound within a step's
+        } else if (schemes[s] == EDMI_SCHEME_LG) { /* energy kept: a rebound within a step's
                                                fall, g dt, of the impact speed */
             CHECK(tc_abs(r.dh) <= 1e-6L * r.h0 + 4096.0L * eps * r.h0);
             CHECK(tc_abs(r.rest1 - 1.0L) <= 9.81e-3L / sqrtl(2.0L * 9.81L * 0.45L));
@@ -629,7 +629,7 @@ static void tc_check_wall_cases(void)
  * steps while p swings through +-2e-16, K ~ 1e-31 J; float: a fixed point by step 3,917). */
 static void tc_check_rest(void)
 {
-    static const edmi_scheme schemes[6] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT, EDMI_GE};
+    static const edmi_scheme schemes[6] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT, EDMI_SCHEME_GE};
     static edmi_system sys, prev;
     static edmi_workspace work;
     const long double m = 0.1L, grav = 9.81L, k = 1e6L, radius = 0.05L, dt = 1e-3L;

@@ -143,7 +143,7 @@ static void eff_balance(edmi_scheme scheme)
             worst = err / (solver + rnd);
         bad += err > solver + rnd;
         neg_damp += res.diss_damping < EDMI_R(0.0);
-        if (scheme == EDMI_GE || scheme == EDMI_PM || scheme == EDMI_PT)
+        if (scheme == EDMI_SCHEME_GE || scheme == EDMI_SCHEME_PM || scheme == EDMI_SCHEME_PT)
             neg_scheme += res.diss_scheme < -rnd;
         dd_total += res.diss_damping;
         w_total += res.work_ext;
@@ -240,8 +240,8 @@ static void eff_invalid(void)
 {
     edmi_real nan3[3], ok3[3] = {EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_real zero = EDMI_R(0.0);
-    TH_NEEDS(eff_chain_in(EDMI_PM) && EDMI_WITH_PORTS);
-    eff_build_chain(EDMI_PM);
+    TH_NEEDS(eff_chain_in(EDMI_SCHEME_PM) && EDMI_WITH_PORTS);
+    eff_build_chain(EDMI_SCHEME_PM);
     nan3[0] = zero / zero;
     nan3[1] = nan3[2] = EDMI_R(0.0);
     eff_snap = eff_sys;
@@ -267,7 +267,7 @@ static void eff_invalid(void)
         CHECK(memcmp(&eff_snap, &eff_sys, sizeof eff_sys) == 0);
     }
     /* a corrupted port force is caught by the step, which changes nothing */
-    eff_build_chain(EDMI_PM);
+    eff_build_chain(EDMI_SCHEME_PM);
     CHECK_STATUS(edmi_set_force(&eff_sys, 2, ok3), EDMI_OK);
     eff_sys.force[2][1] = nan3[0];
     eff_snap = eff_sys;
@@ -288,7 +288,7 @@ static void eff_scene(void)
     edmi_params prm = edmi_default_params();
     edmi_potential lj = edmi_pot_lj(EDMI_R(100.0), EDMI_R(1.0));
     int k;
-    prm.scheme = EDMI_PT;
+    prm.scheme = EDMI_SCHEME_PT;
     TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_LJ) && EDMI_MAX_DAMPERS > 0 &&
              EDMI_WITH_SCENE);
     links[0].a = 0;
@@ -331,17 +331,17 @@ static void eff_scene(void)
 void suite_effects(void)
 {
     th_suite("effects: field, dampers, ports, energy balance, scenes");
-    eff_balance(EDMI_MP);
-    eff_balance(EDMI_LG);
-    eff_balance(EDMI_GE);
-    eff_balance(EDMI_PM);
-    eff_balance(EDMI_PT);
-    eff_damped_momentum(EDMI_MP);
-    eff_damped_momentum(EDMI_LG);
-    eff_damped_momentum(EDMI_PT);
-    eff_free_fall(EDMI_MP);
-    eff_free_fall(EDMI_GE);
-    eff_free_fall(EDMI_PT);
+    eff_balance(EDMI_SCHEME_MP);
+    eff_balance(EDMI_SCHEME_LG);
+    eff_balance(EDMI_SCHEME_GE);
+    eff_balance(EDMI_SCHEME_PM);
+    eff_balance(EDMI_SCHEME_PT);
+    eff_damped_momentum(EDMI_SCHEME_MP);
+    eff_damped_momentum(EDMI_SCHEME_LG);
+    eff_damped_momentum(EDMI_SCHEME_PT);
+    eff_free_fall(EDMI_SCHEME_MP);
+    eff_free_fall(EDMI_SCHEME_GE);
+    eff_free_fall(EDMI_SCHEME_PT);
     eff_invalid();
     eff_scene();
 }

@@ -21,7 +21,7 @@
  * the per-step law checks (D >= d_lo - e_round) carry the proof, this one is a sanity check. */
 #define EN_GE_MIN_DROP_FRAC EDMI_R(0.01)
 
-static const edmi_scheme en_schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+static const edmi_scheme en_schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 
 static void en_log_run(const char *scene, const char *what, const ts_run *run, int free_system)
 {
@@ -72,13 +72,13 @@ static void en_log_run(const char *scene, const char *what, const ts_run *run, i
 static void en_check_energy(edmi_scheme scheme, const ts_run *run, int mp_resolved)
 {
     switch (scheme) {
-    case EDMI_MP:
+    case EDMI_SCHEME_MP:
         if (mp_resolved) {
             CHECK(run->n_up > 0);
             CHECK(run->n_down > 0);
         }
         break;
-    case EDMI_LG:
+    case EDMI_SCHEME_LG:
         CHECK(run->worst_cons <= EN_RATIO_MAX);
         CHECK(run->law_steps == (int)run->steps);
         CHECK(run->worst_law <= EN_RATIO_MAX);
@@ -116,7 +116,7 @@ static void en_spring(void)
         en_check_energy(en_schemes[s], &run, edmi_is_double_precision());
         /* J about the anchor (the origin) is conserved by all five. */
         CHECK(run.worst_j <= EN_RATIO_MAX);
-        if (en_schemes[s] == EDMI_GE)
+        if (en_schemes[s] == EDMI_SCHEME_GE)
             CHECK(run.h0 - run.h_last > EN_GE_MIN_DROP_FRAC * run.h0);
         en_log_run("spring", ts_scheme_name(en_schemes[s]), &run, 0);
     }
@@ -126,14 +126,14 @@ static void en_spring(void)
  * float allowance, 3e8 times the double one) shows both signs in both precisions. */
 static void en_mp_oscillates(void)
 {
-    edmi_params prm = ts_params(EDMI_MP);
+    edmi_params prm = ts_params(EDMI_SCHEME_MP);
     ts_run run;
     TH_NEEDS(ts_scene_in(ts_spring, &prm));
     CHECK_STATUS(ts_spring(&ts_sys[0], &prm), EDMI_OK);
     ts_run_init(&run, &ts_sys[0]);
     ts_run_steps(&run, &ts_sys[0], &ts_work, EDMI_R(1e-2), 100);
     CHECK_STATUS(run.status, EDMI_OK);
-    en_check_energy(EDMI_MP, &run, 1);
+    en_check_energy(EDMI_SCHEME_MP, &run, 1);
     CHECK(run.worst_j <= EN_RATIO_MAX);
     en_log_run("spring dt=1e-2", "MP", &run, 0);
 }
@@ -179,7 +179,7 @@ static void en_spring_lg_quotient(void)
     const long n = 1000;
     int alt;
     for (alt = 0; alt < 5; alt++) {
-        edmi_params prm = ts_params(EDMI_LG);
+        edmi_params prm = ts_params(EDMI_SCHEME_LG);
         ts_run run;
         prm.lg_form = EDMI_LG_QUOTIENT;
         prm.lg_alt = (edmi_lg_alt)alt;
@@ -198,7 +198,7 @@ static void en_spring_lg_quotient(void)
     if (!edmi_is_double_precision())
         return; /* float's default tol_Q already is 1e-3: case (1) covered it */
     for (alt = 0; alt < 5; alt++) {
-        edmi_params prm = ts_params(EDMI_LG);
+        edmi_params prm = ts_params(EDMI_SCHEME_LG);
         ts_run run;
         prm.lg_form = EDMI_LG_QUOTIENT;
         prm.lg_alt = (edmi_lg_alt)alt;
@@ -213,9 +213,9 @@ static void en_spring_lg_quotient(void)
         CHECK(run.steps == n);
         CHECK(run.switched_steps > 0);
         CHECK(run.worst_j <= EN_RATIO_MAX);
-        if (alt == EDMI_ALT_GE || alt == EDMI_ALT_PM || alt == EDMI_ALT_PT)
+        if (alt == EDMI_LG_ALT_GE || alt == EDMI_LG_ALT_PM || alt == EDMI_LG_ALT_PT)
             CHECK(run.worst_up <= EN_RATIO_MAX);
-        if (alt == EDMI_ALT_JANZ)
+        if (alt == EDMI_LG_ALT_JANZ)
             CHECK(run.n_up > 0);
         en_quotient_log("tol_Q=1e-3", (edmi_lg_alt)alt, &run);
     }

@@ -58,7 +58,7 @@ static void tf_scales(void)
     edmi_real g[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(-9.75)};
     int s;
     for (s = 0; s < 2; s++) {
-        edmi_scheme scheme = s ? EDMI_PM : EDMI_MP;
+        edmi_scheme scheme = s ? EDMI_SCHEME_PM : EDMI_SCHEME_MP;
         if (th_skip(th_has_scheme(scheme), s ? "PM" : "MP"))
             continue;
         /* huge mass and momentum: the body moves dt p / m = 0.5 */
@@ -89,8 +89,8 @@ static void tf_scales(void)
                    EDMI_R(8.0) * EDMI_EPS);
     }
     /* Beyond the range: a scale |q| + dt |p| / m that overflows is a status, not a state */
-    TH_NEEDS(th_has_scheme(EDMI_PM));
-    CHECK(tf_free_body(EDMI_PM, EDMI_R(1.0), EDMI_REAL_MAX, EDMI_R(1.0)));
+    TH_NEEDS(th_has_scheme(EDMI_SCHEME_PM));
+    CHECK(tf_free_body(EDMI_SCHEME_PM, EDMI_R(1.0), EDMI_REAL_MAX, EDMI_R(1.0)));
     tf_sys.body[0].q[1] = EDMI_REAL_MAX; /* |q| = sqrt(2) REAL_MAX */
     memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
     CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.5), &res), EDMI_ERR_RANGE);
@@ -118,7 +118,7 @@ static void tf_outputs(void)
     CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_ERR_COINCIDENT);
     CHECK(memcmp(&inv, &inv0, sizeof inv) == 0);
     /* a trial end state with d_n+1 = 0 on an LJ pair (PM evaluates V at d_n+1) */
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     TH_NEEDS(th_has_params(&prm));
     CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
           edmi_add_body(&tf_sys, EDMI_R(1.0), q, tf_zero3, 0) == EDMI_OK &&
@@ -143,8 +143,8 @@ static void tf_clock(void)
 {
     edmi_step_result res;
     const edmi_real dt = EDMI_R(0.75) * EDMI_REAL_MAX;
-    TH_NEEDS(th_has_scheme(EDMI_PM));
-    CHECK(tf_free_body(EDMI_PM, EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)));
+    TH_NEEDS(th_has_scheme(EDMI_SCHEME_PM));
+    CHECK(tf_free_body(EDMI_SCHEME_PM, EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)));
     CHECK_STATUS(edmi_step(&tf_sys, &tf_work, dt, &res), EDMI_OK);
     CHECK(tf_sys.t == dt);
     memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
@@ -176,9 +176,9 @@ static void tf_mp_end(void)
     edmi_real p[3] = {EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)};
     edmi_invariants inv;
     int k;
-    TH_NEEDS(th_has_scheme(EDMI_MP) && th_has_pot(EDMI_POT_USER));
+    TH_NEEDS(th_has_scheme(EDMI_SCHEME_MP) && th_has_pot(EDMI_POT_USER));
     for (k = 0; k < 2; k++) {
-        prm.scheme = EDMI_MP;
+        prm.scheme = EDMI_SCHEME_MP;
         prm.fallback = k;
         /* from -1 at speed 1 for dt = 1: lands on the anchor at the origin */
         CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
@@ -220,10 +220,10 @@ static void tf_counts(void)
     edmi_params prm = edmi_default_params();
     edmi_real f[3] = {EDMI_R(1.0), EDMI_R(2.0), EDMI_R(3.0)};
     int k, which;
-    TH_NEEDS(th_has_scheme(EDMI_PM) && th_has_pot(EDMI_POT_HARMONIC));
+    TH_NEEDS(th_has_scheme(EDMI_SCHEME_PM) && th_has_pot(EDMI_POT_HARMONIC));
     for (which = 0; which < 3; which++)
         for (k = 0; k < 4; k++) {
-            CHECK(tf_free_body(EDMI_PM, EDMI_R(1.0), EDMI_R(1.0), EDMI_R(0.0)) &&
+            CHECK(tf_free_body(EDMI_SCHEME_PM, EDMI_R(1.0), EDMI_R(1.0), EDMI_R(0.0)) &&
                   edmi_add_anchor(&tf_sys, 0, tf_zero3, &h, 0) == EDMI_OK);
             if (which == 0)
                 tf_sys.n_forced = bad[k];
@@ -272,7 +272,7 @@ static void tf_range(void)
     tp_delta d;
     x[0] = x[1] = x[2] = -tiny;
     p[0] = EDMI_R(1.17549435e-38);
-    prm.scheme = EDMI_MP;
+    prm.scheme = EDMI_SCHEME_MP;
     prm.guard = EDMI_GUARD_ON;
     if (!th_skip(th_has_params(&prm) && EDMI_WITH_FIELD, "MP with the guard, field")) {
         CHECK(edmi_init(&tf_sys, &prm) == EDMI_OK &&
@@ -288,7 +288,7 @@ static void tf_range(void)
     }
     /* a spring k = r0 = 1e-300 (float: 1e-30) about an anchor 1.7 k away: |r_n|^2 underflows,
      * and the guard's error bound was 0/0, read as a margin of 0 */
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.guard = EDMI_GUARD_AUTO;
     p[0] = EDMI_R(1.0);
     p[2] = EDMI_R(1.0);
@@ -305,7 +305,7 @@ static void tf_range(void)
     /* a spring whose k is the smallest subnormal, so that k/2 underflows to 0 while
      * k/2 (d - r0)^2 does not (found in float: PT, m = 2.7e17, dt = 1.1e28, the body
      * travelling 2e10 along it; the guard saw dV = 0 where it was +8.8e-25) */
-    prm.scheme = EDMI_PT;
+    prm.scheme = EDMI_SCHEME_PT;
     p[0] = p[1] = p[2] = EDMI_R(0.5);
     q[0] = EDMI_R(1.1e-16);
     q[1] = EDMI_R(0.5);
@@ -340,7 +340,7 @@ static void tf_range(void)
 #else
         const edmi_real cmin = EDMI_R(1.40129846e-45);
 #endif
-        prm.scheme = EDMI_GE;
+        prm.scheme = EDMI_SCHEME_GE;
         prm.guard = EDMI_GUARD_ON;
         prm.fallback = 1;
         if (!th_skip(th_has_params(&prm) && th_has_pot(EDMI_POT_QUARTIC) &&
@@ -393,7 +393,7 @@ static void tf_user_flip(void)
     edmi_potential pot = edmi_pot_user(tp_user_harmonic_fn, tp_user_harmonic_dd, &k);
     int c;
     k.k = (edmi_real)0x1.879cea18p+16;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_USER));
     for (c = 0; c < 2; c++) {
         long n, ok = 0, broken = 0, windows = 0, tank = 0, fallbacks = 0;
@@ -451,7 +451,7 @@ static void tf_substep_fallback(void)
     edmi_potential pot = edmi_pot_harmonic((edmi_real)0x1.8c31c6p+27, (edmi_real)0x1.58e0d6p-3);
     edmi_params prm = edmi_default_params();
     int k;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.fallback = 1;
     TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_HARMONIC));
     for (k = 0; k <= 3; k++) {
@@ -491,7 +491,7 @@ static void tf_tank_cap_zero(void)
     edmi_step_result res;
     tp_delta d;
     int n, ok, broken;
-    prm.scheme = EDMI_GE;
+    prm.scheme = EDMI_SCHEME_GE;
     prm.fallback = 1;
     prm.substep_levels = 3;
     prm.tank_cap = EDMI_R(0.0);
@@ -512,7 +512,7 @@ static void tf_tank_cap_zero(void)
     }
     /* a tank written directly, with tank_cap 0: not spent (MP with the guard on, whose
      * rounding raises H on about half of its steps: the tank would take those) */
-    prm.scheme = EDMI_MP;
+    prm.scheme = EDMI_SCHEME_MP;
     prm.guard = EDMI_GUARD_ON;
     prm.substep_levels = 0;
     TH_NEEDS(th_has_params(&prm));
@@ -591,7 +591,7 @@ static void tf_guard_worst(void)
 {
     edmi_params prm = edmi_default_params();
     int c, i, j;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.l_max = 20;
     prm.fallback = 1;
     TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_HARMONIC));

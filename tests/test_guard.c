@@ -20,7 +20,7 @@
 #define GD_STEPS 2000L
 #endif
 
-static const edmi_scheme gd_schemes[5] = {EDMI_GE, EDMI_PM, EDMI_PT, EDMI_LG, EDMI_MP};
+static const edmi_scheme gd_schemes[5] = {EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT, EDMI_SCHEME_LG, EDMI_SCHEME_MP};
 
 static long double gd_absl(long double x) { return x < 0.0L ? -x : x; }
 
@@ -29,7 +29,7 @@ static edmi_params gd_params(edmi_scheme s)
 {
     edmi_params p = edmi_default_params();
     p.scheme = s;
-    if (s == EDMI_LG || s == EDMI_MP)
+    if (s == EDMI_SCHEME_LG || s == EDMI_SCHEME_MP)
         p.guard = EDMI_GUARD_ON;
     return p;
 }
@@ -49,7 +49,7 @@ static void gd_log(tp_scene sc, edmi_scheme s, const tp_stats *st)
 {
     th_puts("  ");
     th_puts(tp_scene_name(sc));
-    th_puts(s == EDMI_GE ? " GE" : s == EDMI_PM ? " PM" : s == EDMI_PT ? " PT" : s == EDMI_LG ? " LG" : " MP");
+    th_puts(s == EDMI_SCHEME_GE ? " GE" : s == EDMI_SCHEME_PM ? " PM" : s == EDMI_SCHEME_PT ? " PT" : s == EDMI_SCHEME_LG ? " LG" : " MP");
     th_puts(": ");
     th_put_int(st->steps);
     th_puts(" steps ");
@@ -126,7 +126,7 @@ static void gd_guard_off_rises(edmi_scheme s)
     tp_run(TP_SPRING, &prm, GD_STEPS, &st);
     CHECK_STATUS(st.status, EDMI_OK);
     CHECK(st.rises > GD_STEPS / 10);
-    th_puts(s == EDMI_LG ? "  guard off, LG" : "  guard off, PM");
+    th_puts(s == EDMI_SCHEME_LG ? "  guard off, LG" : "  guard off, PM");
     th_note_int(" on the spring: steps where the stored H rose", st.rises);
 }
 
@@ -194,7 +194,7 @@ static void gd_plain_rises(edmi_scheme s)
         h0 = h1;
     }
     CHECK(rises == 0);
-    th_puts(s == EDMI_GE ? "  GE" : s == EDMI_PM ? "  PM" : "  PT");
+    th_puts(s == EDMI_SCHEME_GE ? "  GE" : s == EDMI_SCHEME_PM ? "  PM" : "  PT");
     th_note_int(" on the spring: steps where plainly evaluated H rose", rises);
 }
 
@@ -246,7 +246,7 @@ static void gd_linear(edmi_scheme s)
     CHECK(zero_crossings >= 4); /* it did go through the anchor */
     CHECK(err <= GD_LIN_ULPS * (long double)EDMI_EPS * (long double)GD_LIN_STEPS * amp);
     th_puts("  zero-rest-length spring, ");
-    th_puts(s == EDMI_MP ? "MP" : s == EDMI_LG ? "LG" : s == EDMI_PM ? "PM" : "PT");
+    th_puts(s == EDMI_SCHEME_MP ? "MP" : s == EDMI_SCHEME_LG ? "LG" : s == EDMI_SCHEME_PM ? "PM" : "PT");
     th_puts(": max |q - closed form| / (eps n amplitude) = ");
     th_put_real((edmi_real)(err / ((long double)EDMI_EPS * (long double)GD_LIN_STEPS * amp)), 2);
     th_newline();
@@ -270,11 +270,11 @@ static void gd_no_lockup(edmi_scheme s)
     long n;
     long double d;
     TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_HARMONIC) &&
-             (s == EDMI_GE || EDMI_MAX_DAMPERS > 0));
+             (s == EDMI_SCHEME_GE || EDMI_MAX_DAMPERS > 0));
     CHECK_STATUS(edmi_init(&gd_sys, &prm), EDMI_OK);
     CHECK_STATUS(edmi_add_body(&gd_sys, EDMI_R(0.1), q0, p0, 0), EDMI_OK);
     CHECK_STATUS(edmi_add_anchor(&gd_sys, 0, x, &pot, 0), EDMI_OK);
-    if (s != EDMI_GE)
+    if (s != EDMI_SCHEME_GE)
         CHECK_STATUS(edmi_add_damper(&gd_sys, 0, EDMI_R(5.0), 0), EDMI_OK);
     for (n = 0; n < GD_LOCK_STEPS; n++) {
         edmi_step_result res;
@@ -331,7 +331,7 @@ static void gd_moving_anchor(void)
     const edmi_real p0[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     const edmi_real g[3] = {EDMI_R(-0.4), EDMI_R(0.0), EDMI_R(0.0)};
     const edmi_real v = EDMI_R(0.1), dt = EDMI_R(1e-3), m = EDMI_R(0.5);
-    edmi_params prm = gd_params(EDMI_PM);
+    edmi_params prm = gd_params(EDMI_SCHEME_PM);
     edmi_potential pot = edmi_pot_harmonic(EDMI_R(400.0), EDMI_R(0.0));
     edmi_real x[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     long n, bad = 0;
@@ -365,7 +365,7 @@ static void gd_coupling(void)
     const edmi_real zero[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
     const edmi_real fixed[3] = {EDMI_R(0.0), EDMI_R(0.1), EDMI_R(0.0)};
     const edmi_real dt = EDMI_R(1e-3);
-    edmi_params prm = gd_params(EDMI_PM);
+    edmi_params prm = gd_params(EDMI_SCHEME_PM);
     edmi_potential hand = edmi_pot_harmonic(EDMI_R(3000.0), EDMI_R(0.0));
     edmi_potential wall = edmi_pot_harmonic(EDMI_R(500.0), EDMI_R(0.05));
     edmi_real x[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
@@ -397,7 +397,7 @@ static void gd_coupling(void)
  * system), H falling. */
 static void gd_fallback(void)
 {
-    edmi_params prm = gd_params(EDMI_PM);
+    edmi_params prm = gd_params(EDMI_SCHEME_PM);
     edmi_real dt;
     edmi_step_result res;
     tp_delta d;
@@ -452,7 +452,7 @@ static void gd_fallback(void)
  * Newton's noise floor (edmi__noise_floor) covers (before it did, every scheme stopped with
  * EDMI_ERR_NO_CONVERGENCE there, both precisions). Where q cannot move by less than its unit
  * while the spring's pull on p is not 0, the scheme's step leaves q where it was and raises
- * K: the guard then keeps each momentum component no larger than it was (EDMI_GUARD_HOLD,
+ * K: the guard then keeps each momentum component no larger than it was (EDMI_MOVE_HOLD,
  * exact: V and the works unchanged), which costs about what a moving step does (before it,
  * the rounding search and a drag ran on every step at rest, 2.7x the cost, and the float
  * body never came to a fixed point). They stay within tp_rest_bound (8 units in the last
@@ -485,7 +485,7 @@ static long gd_rest_steps(tp_rest sc)
 
 static const char *gd_scheme_name(edmi_scheme s)
 {
-    return s == EDMI_GE ? "GE" : s == EDMI_PM ? "PM" : s == EDMI_PT ? "PT" : s == EDMI_LG ? "LG" : "MP";
+    return s == EDMI_SCHEME_GE ? "GE" : s == EDMI_SCHEME_PM ? "PM" : s == EDMI_SCHEME_PT ? "PT" : s == EDMI_SCHEME_LG ? "LG" : "MP";
 }
 
 static void gd_rest_log(tp_rest sc, const edmi_params *prm, int damper, const tp_rest_stats *st)
@@ -495,7 +495,7 @@ static void gd_rest_log(tp_rest sc, const edmi_params *prm, int damper, const tp
     th_puts(", ");
     th_puts(gd_scheme_name(prm->scheme));
     th_puts(prm->guard == EDMI_GUARD_ON ? " guard on" : prm->guard == EDMI_GUARD_OFF ? " guard off" :
-            prm->scheme == EDMI_MP || prm->scheme == EDMI_LG ? " (guard off)" : "");
+            prm->scheme == EDMI_SCHEME_MP || prm->scheme == EDMI_SCHEME_LG ? " (guard off)" : "");
     th_puts(damper ? " + damper: " : ": ");
     th_put_int(st->steps);
     th_puts(" steps ");
@@ -522,7 +522,7 @@ static void gd_rest_log(tp_rest sc, const edmi_params *prm, int damper, const tp
 static int gd_guarded(const edmi_params *p)
 {
     return p->guard == EDMI_GUARD_ON ||
-           (p->guard == EDMI_GUARD_AUTO && p->scheme != EDMI_MP && p->scheme != EDMI_LG);
+           (p->guard == EDMI_GUARD_AUTO && p->scheme != EDMI_SCHEME_MP && p->scheme != EDMI_SCHEME_LG);
 }
 
 static void gd_rest(tp_rest sc, edmi_scheme s, edmi_guard_mode g, int damper)
@@ -559,15 +559,15 @@ static void gd_rest(tp_rest sc, edmi_scheme s, edmi_guard_mode g, int damper)
 
 static void gd_rest_all(void)
 {
-    static const edmi_scheme damped[4] = {EDMI_PM, EDMI_PT, EDMI_LG, EDMI_MP};
+    static const edmi_scheme damped[4] = {EDMI_SCHEME_PM, EDMI_SCHEME_PT, EDMI_SCHEME_LG, EDMI_SCHEME_MP};
     int k, sc;
-    gd_rest(TP_REST_ANCHOR, EDMI_GE, EDMI_GUARD_AUTO, 0);
+    gd_rest(TP_REST_ANCHOR, EDMI_SCHEME_GE, EDMI_GUARD_AUTO, 0);
     for (k = 0; k < 4; k++)
         gd_rest(TP_REST_ANCHOR, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1);
-    gd_rest(TP_REST_ANCHOR, EDMI_LG, EDMI_GUARD_AUTO, 1);
-    gd_rest(TP_REST_ANCHOR, EDMI_MP, EDMI_GUARD_AUTO, 1);
+    gd_rest(TP_REST_ANCHOR, EDMI_SCHEME_LG, EDMI_GUARD_AUTO, 1);
+    gd_rest(TP_REST_ANCHOR, EDMI_SCHEME_MP, EDMI_GUARD_AUTO, 1);
     for (sc = TP_REST_NEO_HOOKE; sc <= TP_REST_PAIR_OFF; sc++) {
-        gd_rest((tp_rest)sc, EDMI_GE, EDMI_GUARD_AUTO, 1);
+        gd_rest((tp_rest)sc, EDMI_SCHEME_GE, EDMI_GUARD_AUTO, 1);
         for (k = 0; k < 4; k++)
             gd_rest((tp_rest)sc, damped[k], k < 2 ? EDMI_GUARD_AUTO : EDMI_GUARD_ON, 1);
     }
@@ -581,7 +581,7 @@ static void gd_rest_all(void)
 
 static void gd_on_anchor(void)
 {
-    static const edmi_scheme all[7] = {EDMI_GE, EDMI_PM, EDMI_PT, EDMI_LG, EDMI_MP, EDMI_LG, EDMI_MP};
+    static const edmi_scheme all[7] = {EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT, EDMI_SCHEME_LG, EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_MP};
     int k, damper;
     for (damper = 0; damper < 2; damper++)
         for (k = 0; k < 7; k++) {
@@ -682,32 +682,32 @@ void suite_guard(void)
     /* a double state's noise is resolved only where long double is wider than double (x86:
      * 64 bits; the Arm targets: long double is double, and the check resolves float only) */
     if (!edmi_is_double_precision() || LDBL_MANT_DIG > DBL_MANT_DIG)
-        gd_guard_off_rises(EDMI_LG);
+        gd_guard_off_rises(EDMI_SCHEME_LG);
     if (!edmi_is_double_precision())
-        gd_guard_off_rises(EDMI_PM);
+        gd_guard_off_rises(EDMI_SCHEME_PM);
     /* where long double has 64 bits (the host) it resolves both precisions' states; on the Arm
      * targets (long double is double) float states still */
     if (LDBL_MANT_DIG >= 64 || !edmi_is_double_precision()) {
-        gd_plain_rises(EDMI_GE);
-        gd_plain_rises(EDMI_PM);
-        gd_plain_rises(EDMI_PT);
+        gd_plain_rises(EDMI_SCHEME_GE);
+        gd_plain_rises(EDMI_SCHEME_PM);
+        gd_plain_rises(EDMI_SCHEME_PT);
     }
-    gd_linear(EDMI_MP);
-    gd_linear(EDMI_LG);
-    gd_linear(EDMI_PM);
-    gd_linear(EDMI_PT);
-    gd_no_lockup(EDMI_GE);
-    gd_no_lockup(EDMI_PM);
-    gd_no_lockup(EDMI_LG);
+    gd_linear(EDMI_SCHEME_MP);
+    gd_linear(EDMI_SCHEME_LG);
+    gd_linear(EDMI_SCHEME_PM);
+    gd_linear(EDMI_SCHEME_PT);
+    gd_no_lockup(EDMI_SCHEME_GE);
+    gd_no_lockup(EDMI_SCHEME_PM);
+    gd_no_lockup(EDMI_SCHEME_LG);
     gd_moving_anchor();
     gd_coupling();
     gd_fallback();
     gd_rest_all();
     gd_on_anchor();
-    gd_user(EDMI_GE, 1);
-    gd_user(EDMI_PM, 1);
-    gd_user(EDMI_PT, 1);
-    gd_user(EDMI_LG, 1);
-    gd_user(EDMI_MP, 1);
-    gd_user(EDMI_LG, 0);
+    gd_user(EDMI_SCHEME_GE, 1);
+    gd_user(EDMI_SCHEME_PM, 1);
+    gd_user(EDMI_SCHEME_PT, 1);
+    gd_user(EDMI_SCHEME_LG, 1);
+    gd_user(EDMI_SCHEME_MP, 1);
+    gd_user(EDMI_SCHEME_LG, 0);
 }

@@ -17,7 +17,7 @@
 /* A per-step law holds when measured <= derived bound: ratio 1. */
 #define HARD_RATIO_MAX EDMI_R(1.0)
 
-static const edmi_scheme hard_schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+static const edmi_scheme hard_schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 
 static void hard_log(const char *what, const char *detail, const ts_run *run)
 {
@@ -125,8 +125,8 @@ static void hard_orbit(void)
 {
     static const edmi_real tolq[7] = {EDMI_R(1e-1), EDMI_R(1e-2), EDMI_R(1e-4), EDMI_R(1e-6),
                                       EDMI_R(1e-8), EDMI_R(1e-10), EDMI_R(1e-12)};
-    static const edmi_scheme others[3] = {EDMI_GE, EDMI_PM, EDMI_PT};
-    edmi_params prm = ts_params(EDMI_LG);
+    static const edmi_scheme others[3] = {EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
+    edmi_params prm = ts_params(EDMI_SCHEME_LG);
     int alt, t, i;
     hard_orbit_worst = hard_orbit_rdev = EDMI_R(0.0);
     hard_orbit_switched = 0;
@@ -134,7 +134,7 @@ static void hard_orbit(void)
     hard_orbit_case("LG closed", &prm);
     for (alt = 0; alt < 5; alt++)
         for (t = 0; t < 7; t++) {
-            prm = ts_params(EDMI_LG);
+            prm = ts_params(EDMI_SCHEME_LG);
             prm.lg_form = EDMI_LG_QUOTIENT;
             prm.lg_alt = (edmi_lg_alt)alt;
             prm.tol_q = tolq[t];
@@ -178,7 +178,7 @@ static void hard_lg_switch(void)
 {
     int alt;
     for (alt = 0; alt < 5; alt++) {
-        edmi_params prm = ts_params(EDMI_LG);
+        edmi_params prm = ts_params(EDMI_SCHEME_LG);
         ts_run run;
         prm.lg_form = EDMI_LG_QUOTIENT;
         prm.lg_alt = (edmi_lg_alt)alt;
@@ -191,13 +191,13 @@ static void hard_lg_switch(void)
         CHECK(!run.nonfinite);
         CHECK(run.switched_steps > 0); /* the alternate is exercised */
         switch ((edmi_lg_alt)alt) {
-        case EDMI_ALT_JANZ:
-        case EDMI_ALT_GONZALEZ:
+        case EDMI_LG_ALT_JANZ:
+        case EDMI_LG_ALT_GONZALEZ:
             CHECK(run.status == EDMI_OK || run.status == EDMI_ERR_NO_CONVERGENCE);
             CHECK(run.steps >= HARD_SWITCH_STEPS / 2);
             if (run.status != EDMI_OK)
                 CHECK(ts_unchanged_by_last_step(&ts_sys[0]));
-            if (alt == EDMI_ALT_JANZ && edmi_is_double_precision())
+            if (alt == EDMI_LG_ALT_JANZ && edmi_is_double_precision())
                 CHECK(run.h_max - run.h0 > HARD_JANZ_GROWTH_FACTOR * run.sum_bound);
             break;
         default:
@@ -254,10 +254,10 @@ static void hard_collision(void)
         CHECK(run.steps == HARD_LJ_STEPS);
         CHECK(!run.nonfinite);
         CHECK(run.dmin < HARD_LJ_DMIN_MAX);
-        if (hard_schemes[s] == EDMI_LG) {
+        if (hard_schemes[s] == EDMI_SCHEME_LG) {
             CHECK(run.worst_cons <= HARD_RATIO_MAX);
             CHECK(run.worst_law <= HARD_RATIO_MAX);
-        } else if (hard_schemes[s] != EDMI_MP) {
+        } else if (hard_schemes[s] != EDMI_SCHEME_MP) {
             CHECK(run.worst_up <= HARD_RATIO_MAX);
             CHECK(run.worst_law <= HARD_RATIO_MAX);
         }
@@ -324,9 +324,9 @@ static void hard_neo_case(edmi_scheme scheme, edmi_real dt, int l_max, const cha
     CHECK(run.steps == HARD_NEO_STEPS);
     CHECK(!run.nonfinite);
     switch (scheme) {
-    case EDMI_MP:
+    case EDMI_SCHEME_MP:
         break;
-    case EDMI_LG:
+    case EDMI_SCHEME_LG:
         CHECK(run.worst_cons <= HARD_RATIO_MAX);
         CHECK(run.worst_law <= HARD_RATIO_MAX);
         break;
@@ -337,7 +337,7 @@ static void hard_neo_case(edmi_scheme scheme, edmi_real dt, int l_max, const cha
     }
     CHECK(run.worst_j <= HARD_RATIO_MAX);
     hard_log(what, ts_scheme_name(scheme), &run);
-    if (scheme == EDMI_MP)
+    if (scheme == EDMI_SCHEME_MP)
         th_note_real("    MP max H / H0 (no law)", run.h_max / run.h0);
 }
 
@@ -356,7 +356,7 @@ static void hard_stiff(void)
         CHECK_STATUS(run.status, EDMI_OK);
         CHECK(run.steps == HARD_STIFF_STEPS);
         CHECK(!run.nonfinite);
-        if (hard_schemes[s] == EDMI_GE) {
+        if (hard_schemes[s] == EDMI_SCHEME_GE) {
             CHECK(run.worst_up <= HARD_RATIO_MAX);
             CHECK(run.worst_law <= HARD_RATIO_MAX);
         } else {
@@ -396,7 +396,7 @@ static edmi_system hard_s0;
 static int hard_wall_in(edmi_scheme scheme, int quotient)
 {
     return th_has_scheme(scheme) && th_has_pot(EDMI_POT_LJ) &&
-           (scheme != EDMI_LG || !quotient || EDMI_WITH_LG_QUOTIENT);
+           (scheme != EDMI_SCHEME_LG || !quotient || EDMI_WITH_LG_QUOTIENT);
 }
 
 static void hard_wall_build(edmi_system *sys, edmi_scheme scheme, int quotient, edmi_real sigma,
@@ -423,7 +423,7 @@ static void hard_wall_grid(int levels, int fallback, long *ok, long *split, long
     int s, q, i, j;
     *ok = *split = *fb = 0;
     for (s = 0; s < 5; s++)
-        for (q = 0; q < (hard_schemes[s] == EDMI_LG ? 2 : 1); q++) {
+        for (q = 0; q < (hard_schemes[s] == EDMI_SCHEME_LG ? 2 : 1); q++) {
             if (th_skip(hard_wall_in(hard_schemes[s], q),
                         ts_label("LJ wall", q ? "LG quotient" : ts_scheme_name(hard_schemes[s]))))
                 continue;
@@ -431,8 +431,8 @@ static void hard_wall_grid(int levels, int fallback, long *ok, long *split, long
                 for (j = 0; j < HARD_WALL_ND; j++) {
                     edmi_step_result res;
                     edmi_status st;
-                    int guard = hard_schemes[s] == EDMI_GE || hard_schemes[s] == EDMI_PM ||
-                                hard_schemes[s] == EDMI_PT;
+                    int guard = hard_schemes[s] == EDMI_SCHEME_GE || hard_schemes[s] == EDMI_SCHEME_PM ||
+                                hard_schemes[s] == EDMI_SCHEME_PT;
                     hard_wall_build(sys, hard_schemes[s], q, hard_wall_sigma[i], levels,
                                     fallback);
                     hard_s0 = *sys;
@@ -448,7 +448,7 @@ static void hard_wall_grid(int levels, int fallback, long *ok, long *split, long
                     *fb += res.stop == EDMI_STOP_FALLBACK;
                     CHECK((res.cause == EDMI_OK) == (res.substeps == 1 && res.fallbacks == 0));
                     if (res.substeps == 1 && res.stop != EDMI_STOP_FALLBACK &&
-                        !(res.guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG))) {
+                        !(res.guard_action & (EDMI_MOVE_IMPULSE | EDMI_MOVE_DRAG))) {
                         edmi_status rs;
                         int body, which;
                         long double x = tp_solved(&hard_s0, sys, hard_wall_dt[j], &ts_work, &rs,
@@ -502,7 +502,7 @@ static tp_user_harmonic hard_user = {EDMI_R(50.0), EDMI_R(1.0)};
 
 static void hard_user_spring(void)
 {
-    const edmi_scheme sch[2] = {EDMI_PT, EDMI_GE};
+    const edmi_scheme sch[2] = {EDMI_SCHEME_PT, EDMI_SCHEME_GE};
     const edmi_real q[3] = {EDMI_R(1.3), 0, 0}, p[3] = {0, 2, 0}, o[3] = {0, 0, 0};
     edmi_potential pot = edmi_pot_user(tp_user_harmonic_fn, tp_user_harmonic_dd, &hard_user);
     edmi_system *sys = &ts_sys[0];
@@ -522,7 +522,7 @@ static void hard_user_spring(void)
         for (n = 0; n < 2000; n++) {
             ok += edmi_step(sys, &ts_work, EDMI_R(1e-3), &res) == EDMI_OK;
             fb += res.stop == EDMI_STOP_FALLBACK;
-            moved += (res.guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG)) != 0;
+            moved += (res.guard_action & (EDMI_MOVE_IMPULSE | EDMI_MOVE_DRAG)) != 0;
         }
         CHECK(ok == 2000 && fb == 0);
         th_puts("  user spring k 50, ");
@@ -546,7 +546,7 @@ static void hard_user_spring(void)
  * work included), and the body goes on moving. */
 static void hard_no_freeze(void)
 {
-    edmi_params prm = ts_params(EDMI_PM);
+    edmi_params prm = ts_params(EDMI_SCHEME_PM);
     edmi_system *sys = &ts_sys[0];
     edmi_step_result res;
     edmi_real dt, q0[3], span = EDMI_R(0.0);
@@ -617,7 +617,7 @@ static void hard_grid_floor(void)
     long double lo = 0.0L, hi = (long double)u, h = (long double)dt / (2.0L * (long double)m);
     long double rp_n, x, f = (long double)dt * hard_lj_d1((long double)u, sigma);
     int i, side, body, which;
-    prm.scheme = EDMI_MP;
+    prm.scheme = EDMI_SCHEME_MP;
     TH_NEEDS(th_has_params(&prm) && th_has_pot(EDMI_POT_LJ));
     for (i = 0; i < 200; i++) { /* x/h + dt V'(u + x/2) = 0: the exact displacement */
         long double mid = 0.5L * (lo + hi);

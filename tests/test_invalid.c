@@ -188,7 +188,7 @@ static int ti_upot_in(const edmi_params *prm)
     if (!prm)
         prm = &def;
     return th_has_params(prm) && th_has_pot(EDMI_POT_USER) &&
-           (prm->scheme != EDMI_LG || EDMI_WITH_LG_QUOTIENT);
+           (prm->scheme != EDMI_SCHEME_LG || EDMI_WITH_LG_QUOTIENT);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -256,7 +256,7 @@ static void ti_params(void)
     bad[nb++].tank_cap = nan;
     bad[nb++].tank_cap = inf;
 
-    if (ti_build_any_fails(EDMI_PM))
+    if (ti_build_any_fails(EDMI_SCHEME_PM))
         return;
     for (i = 0; i < nb; i++) {
         int f0 = th_failed();
@@ -268,15 +268,15 @@ static void ti_params(void)
     TI_EXPECT(edmi_set_params(&ti_sys, 0), EDMI_ERR_NULL);
 
     /* Success paths change what they should. */
-    if (th_skip(th_has_scheme(EDMI_GE), "GE"))
+    if (th_skip(th_has_scheme(EDMI_SCHEME_GE), "GE"))
         return;
     good = def;
-    good.scheme = EDMI_GE;
+    good.scheme = EDMI_SCHEME_GE;
     good.l_max = 7;
     ti_snapshot();
     CHECK_STATUS(edmi_set_params(&ti_sys, &good), EDMI_OK);
     CHECK(!ti_unchanged());
-    CHECK(ti_sys.params.scheme == EDMI_GE && ti_sys.params.l_max == 7);
+    CHECK(ti_sys.params.scheme == EDMI_SCHEME_GE && ti_sys.params.l_max == 7);
     CHECK(ti_sys.n_bodies == 3 && ti_sys.n_links == 3); /* set_params keeps the bodies */
     CHECK_STATUS(edmi_init(&ti_sys, 0), EDMI_OK);
     CHECK(ti_sys.n_bodies == 0 && ti_sys.n_links == 0 && ti_sys.t == EDMI_R(0.0));
@@ -298,7 +298,7 @@ static void ti_add_body(void)
     edmi_real bq[3], bp[3];
     int i, idx = -5;
 
-    if (ti_build_any_fails(EDMI_MP))
+    if (ti_build_any_fails(EDMI_SCHEME_MP))
         return;
     CHECK_STATUS(edmi_add_body(0, EDMI_R(1.0), q, p, 0), EDMI_ERR_NULL);
     TI_EXPECT(edmi_add_body(&ti_sys, EDMI_R(1.0), 0, p, 0), EDMI_ERR_NULL);
@@ -360,7 +360,7 @@ static void ti_add_links(void)
     badpot[nbp++] = edmi_pot_inverse(EDMI_R(0.0));
     badpot[nbp++] = edmi_pot_user(0, 0, 0);
 
-    if (ti_build_any_fails(EDMI_LG))
+    if (ti_build_any_fails(EDMI_SCHEME_LG))
         return;
     /* NULL */
     CHECK_STATUS(edmi_add_pair(0, 0, 1, &good, 0), EDMI_ERR_NULL);
@@ -426,7 +426,7 @@ static void ti_step_input(void)
     edmi_invariants inv;
     int a, i, sa, sb;
 
-    if (ti_build_any_fails(EDMI_PT))
+    if (ti_build_any_fails(EDMI_SCHEME_PT))
         return;
     for (a = 0; a < 3; a++)
         for (i = 0; i < 3; i++) {
@@ -578,7 +578,7 @@ static void ti_step_input(void)
  * not linked are fine. */
 static void ti_coincident(void)
 {
-    static const edmi_scheme schemes[6] = {EDMI_MP, EDMI_LG, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[6] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     edmi_real q[3] = {EDMI_R(1.0), EDMI_R(2.0), EDMI_R(3.0)};
     edmi_real qo[3] = {EDMI_R(1.0), EDMI_R(2.0), EDMI_R(4.5)};
     edmi_real pa[3] = {EDMI_R(1.0), EDMI_R(0.0), EDMI_R(0.0)};
@@ -688,7 +688,7 @@ static void ti_singular(void)
  * round-off floor (~10 eps). */
 static void ti_no_convergence(void)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     edmi_real q[3] = {EDMI_R(2.0), EDMI_R(1.0), EDMI_R(1.0)};
     edmi_real p[3] = {EDMI_R(-30.0), EDMI_R(15.0), EDMI_R(45.0)};
     edmi_potential nh = edmi_pot_neo_hooke(EDMI_R(1000.0), EDMI_R(4.0));
@@ -719,7 +719,7 @@ static void ti_no_convergence(void)
  * r_m = (q0 + q1)/2 is the anchor. */
 static void ti_diverged(void)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     static ti_upot never = {EDMI_R(0.5), EDMI_R(0.0), EDMI_R(0.0)};
     static ti_upot outside = {EDMI_R(0.5), EDMI_R(0.0), EDMI_R(2.05)};
     static ti_upot zero = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(1e30)};
@@ -751,7 +751,7 @@ static void ti_diverged(void)
     /* MP (the default until the default became PM): its corrections land on the singular
      * point, which the domain guard halves */
     prm_mp = edmi_default_params();
-    prm_mp.scheme = EDMI_MP;
+    prm_mp.scheme = EDMI_SCHEME_MP;
     TH_NEEDS(ti_upot_in(&prm_mp));
     if (CHECK(ti_build_one(EDMI_R(1.0), q0, p0, &pz, &prm_mp))) {
         ti_dirty_res();
@@ -773,7 +773,7 @@ static void ti_diverged(void)
 /* Success paths do change the state: positions, momenta, time. */
 static void ti_success(void)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     edmi_real dt = EDMI_R(1e-3);
     int s;
     for (s = 0; s < 5; s++) {
@@ -848,7 +848,7 @@ static int ti_base(const edmi_potential *pot)
 
 static void ti_disabled(void)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     const edmi_real g[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(-9.81)};
     const edmi_real f[3] = {EDMI_R(1.0), EDMI_R(-2.0), EDMI_R(0.5)};
     edmi_potential pots[6];
@@ -881,9 +881,9 @@ static void ti_disabled(void)
         CHECK(ti_base(in));
         TI_HAVE(edmi_init(&ti_sys, &prm), th_has_scheme(schemes[k]));
     }
-    if (th_has_scheme(EDMI_LG)) {
+    if (th_has_scheme(EDMI_SCHEME_LG)) {
         prm = edmi_default_params();
-        prm.scheme = EDMI_LG;
+        prm.scheme = EDMI_SCHEME_LG;
         prm.lg_form = EDMI_LG_QUOTIENT;
         CHECK(ti_base(in));
         TI_HAVE(edmi_init(&ti_sys, &prm), EDMI_WITH_LG_QUOTIENT);

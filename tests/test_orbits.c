@@ -49,7 +49,7 @@
 
 /* The guard changed at most this fraction of the steps. Measured: double a 27 steps of
  * 20,000 (0.14 %), b 7 (0.035 %); float a 19 (0.095 %), b 13 (0.065 %): every one a
- * rounding move (EDMI_GUARD_ROUND) where H would have risen above the tank's ceiling; it
+ * rounding move (EDMI_MOVE_ROUND) where H would have risen above the tank's ceiling; it
  * leaves 1/32 of the capacity in the tank (~5e-15 |H0| in double, ~3e-6 in float). The old
  * guard (before the energy tank, commit 411e673) changed 58 % and 65 % of the steps in double
  * and 99 % and 100 % in float. */
@@ -169,10 +169,10 @@ typedef struct orb_variant {
 enum { ORB_PM = 0, ORB_PM_OFF, ORB_MP, ORB_LG, ORB_NVAR };
 
 static const orb_variant orb_variants[ORB_NVAR] = {
-    {"PM guarded", EDMI_PM, EDMI_GUARD_AUTO},
-    {"PM guard off", EDMI_PM, EDMI_GUARD_OFF},
-    {"MP", EDMI_MP, EDMI_GUARD_AUTO},
-    {"LG", EDMI_LG, EDMI_GUARD_AUTO},
+    {"PM guarded", EDMI_SCHEME_PM, EDMI_GUARD_AUTO},
+    {"PM guard off", EDMI_SCHEME_PM, EDMI_GUARD_OFF},
+    {"MP", EDMI_SCHEME_MP, EDMI_GUARD_AUTO},
+    {"LG", EDMI_SCHEME_LG, EDMI_GUARD_AUTO},
 };
 
 /* Relative drifts (over |H0|, |J0|) and their resolutions (the largest over the run). */
@@ -322,8 +322,8 @@ static void orb_scene_checks(orb_scene sc)
     const orb_stats *ref;
     int v, n_var = dbl ? 2 : ORB_NVAR; /* double compares with PM guard off only */
     TH_NEEDS(th_has_pot(sc == ORB_GRAV ? EDMI_POT_INVERSE : EDMI_POT_LJ) &&
-             th_has_scheme(EDMI_PM) &&
-             (dbl || (th_has_scheme(EDMI_MP) && th_has_scheme(EDMI_LG))));
+             th_has_scheme(EDMI_SCHEME_PM) &&
+             (dbl || (th_has_scheme(EDMI_SCHEME_MP) && th_has_scheme(EDMI_SCHEME_LG))));
     for (v = 0; v < n_var; v++) {
         orb_run(sc, v, &st[v]);
         orb_log(sc, v, &st[v]);
@@ -384,7 +384,7 @@ static void orb_kepler_h(const edmi_system *s, long double *h, long double *j)
 
 static void orb_kepler(void)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     static edmi_system sys;
     static edmi_workspace work;
     const long n = 20000L, eps_n = 141L; /* 100 periods of 200 steps; sqrt(n) */
@@ -433,14 +433,14 @@ static void orb_kepler(void)
             th_put_int(failed);
             th_newline();
             CHECK(failed == 0);
-            if (schemes[s] != EDMI_MP) /* bound orbits: J to the rounding of each step */
+            if (schemes[s] != EDMI_SCHEME_MP) /* bound orbits: J to the rounding of each step */
                 CHECK(orb_absl(j - j0) <= 8.0L * eps * (long double)n * orb_absl(j0));
-            if (schemes[s] == EDMI_LG)
+            if (schemes[s] == EDMI_SCHEME_LG)
                 CHECK(orb_absl(dh[s]) <= 16.0L * eps * vmax * (long double)eps_n);
-            else if (schemes[s] != EDMI_MP) /* guarded: never above H0 (long double's rounding) */
+            else if (schemes[s] != EDMI_SCHEME_MP) /* guarded: never above H0 (long double's rounding) */
                 CHECK(rise <= 64.0L * LDBL_EPSILON * vmax);
         }
-        if (ie == 1 && th_has_scheme(EDMI_PM) && th_has_scheme(EDMI_LG))
+        if (ie == 1 && th_has_scheme(EDMI_SCHEME_PM) && th_has_scheme(EDMI_SCHEME_LG))
             CHECK(-dh[3] > 0.5L && -dh[3] >= 1e4L * orb_absl(dh[1]));
     }
 }

@@ -31,7 +31,7 @@
  * larger, so it keeps the double step and ORD_TOL (float moves it by 0.01). */
 #define ORD_TOL_FLOAT2 EDMI_R(0.15)
 
-static const edmi_scheme ord_schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+static const edmi_scheme ord_schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 
 typedef edmi_status (*ord_build)(edmi_system *, const edmi_params *);
 
@@ -79,7 +79,7 @@ static void ord_case(const char *scene, ord_build build, edmi_scheme s, edmi_rea
                      edmi_real t_end, edmi_real h, edmi_real tol)
 {
     edmi_params prm = ts_params(s);
-    edmi_real want = s == EDMI_GE ? EDMI_R(1.0) : EDMI_R(2.0), oq, op;
+    edmi_real want = s == EDMI_SCHEME_GE ? EDMI_R(1.0) : EDMI_R(2.0), oq, op;
     prm.tol_r = tol_r;
     if (th_skip(ts_scene_in(build, &prm), ts_label(scene, ts_scheme_name(s))))
         return;
@@ -96,7 +96,7 @@ static void ord_spring(void)
     int i;
     for (i = 0; i < 5; i++) {
         edmi_scheme s = ord_schemes[i];
-        if (edmi_is_double_precision() || s == EDMI_GE)
+        if (edmi_is_double_precision() || s == EDMI_SCHEME_GE)
             ord_case("spring T=1", ts_spring, s, tol_r, EDMI_R(1.0), EDMI_R(2.5e-3), ORD_TOL);
         else
             ord_case("spring T=1", ts_spring, s, tol_r, EDMI_R(1.0), EDMI_R(1e-2),
@@ -121,7 +121,7 @@ static void ord_lj2(void)
     }
     for (i = 0; i < 5; i++) {
         edmi_scheme s = ord_schemes[i];
-        if (s == EDMI_GE)
+        if (s == EDMI_SCHEME_GE)
             ord_case("LJ2 T=0.1", ts_lj2, s, EDMI_R(1e-12), EDMI_R(0.1), EDMI_R(1.25e-4),
                      ORD_TOL);
         else

@@ -84,7 +84,7 @@ static const edmi_real pap_p_ord[5][PAP_NCOL - 1] = {
  * orders). */
 #define PAP_FLOAT_COLS 1
 
-static const edmi_scheme pap_schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+static const edmi_scheme pap_schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
 
 static edmi_params pap_params(edmi_scheme s)
 {
@@ -110,7 +110,7 @@ static edmi_real pap_rel_err(const edmi_system *sys, int which)
 /* H0 and J0 as printed (section 3.5). */
 static void pap_initial(void)
 {
-    edmi_params prm = pap_params(EDMI_MP);
+    edmi_params prm = pap_params(EDMI_SCHEME_MP);
     edmi_invariants iv;
     TH_NEEDS(ts_scene_in(ts_spring, &prm));
     CHECK_STATUS(ts_spring(&ts_sys[0], &prm), EDMI_OK);
@@ -185,7 +185,7 @@ static void pap_table(void)
             ep[c] = pap_rel_err(&ts_sys[0], 1);
             CHECK_NEAR(eq[c], pap_q_pub[s][c], EDMI_R(0.0), PAP_TABLE_REL);
             CHECK_NEAR(ep[c], pap_p_pub[s][c], EDMI_R(0.0), PAP_TABLE_REL);
-            if (pap_schemes[s] == EDMI_MP && c == 4) {
+            if (pap_schemes[s] == EDMI_SCHEME_MP && c == 4) {
                 for (i = 0; i < 3; i++) {
                     pap_mp_1e4[i] = ts_sys[0].body[0].q[i];
                     pap_mp_1e4[3 + i] = ts_sys[0].body[0].p[i];
@@ -202,8 +202,8 @@ static void pap_table(void)
         }
         /* The mistyped entries: the reproduced value is the corrected one, a tenth of the
          * printed one (the corrected value is asserted above within 2 %). */
-        if (pap_schemes[s] == EDMI_MP || pap_schemes[s] == EDMI_LG)
-            CHECK(eq[0] < EDMI_R(0.2) * (pap_schemes[s] == EDMI_MP ? EDMI_R(4.32e-1)
+        if (pap_schemes[s] == EDMI_SCHEME_MP || pap_schemes[s] == EDMI_SCHEME_LG)
+            CHECK(eq[0] < EDMI_R(0.2) * (pap_schemes[s] == EDMI_SCHEME_MP ? EDMI_R(4.32e-1)
                                                                     : EDMI_R(4.30e-1)));
         pap_log_row("q", pap_schemes[s], eq, pap_q_pub[s], ncol);
         pap_log_row("p", pap_schemes[s], ep, pap_p_pub[s], ncol);
@@ -227,7 +227,7 @@ static void pap_reference(void)
     const edmi_real hs[2] = {EDMI_R(4e-4), EDMI_R(2e-4)};
     const long ns[2] = {25000, 50000};
     int w, k, i;
-    edmi_params prm_mp = pap_params(EDMI_MP);
+    edmi_params prm_mp = pap_params(EDMI_SCHEME_MP);
     if (!edmi_is_double_precision()) {
         th_puts("  reference cross-check: double only\n");
         return;
@@ -237,7 +237,7 @@ static void pap_reference(void)
     if (!pap_have_mp_1e4)
         return;
     for (k = 0; k < 2; k++) {
-        edmi_params prm = pap_params(EDMI_MP);
+        edmi_params prm = pap_params(EDMI_SCHEME_MP);
         CHECK_STATUS(ts_spring(&ts_sys[0], &prm), EDMI_OK);
         CHECK_STATUS(ts_advance(&ts_sys[0], &ts_work, hs[k], ns[k], 0), EDMI_OK);
         for (i = 0; i < 3; i++) {

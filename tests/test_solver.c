@@ -104,9 +104,9 @@ static void solver_numbering(edmi_scheme scheme)
 static void solver_bitwise(void)
 {
     int k;
-    TH_NEEDS(solver_in(EDMI_PT));
-    solver_build(&sys_a, EDMI_PT, 1);
-    solver_build(&sys_b, EDMI_PT, 1);
+    TH_NEEDS(solver_in(EDMI_SCHEME_PT));
+    solver_build(&sys_a, EDMI_SCHEME_PT, 1);
+    solver_build(&sys_b, EDMI_SCHEME_PT, 1);
     for (k = 0; k < 100; k++) {
         if (!CHECK_STATUS(edmi_step(&sys_a, &work_solver, EDMI_R(0.01), NULL), EDMI_OK))
             return;
@@ -127,9 +127,9 @@ static void solver_state_writes(void)
 {
     static edmi_system before;
     int k, i;
-    TH_NEEDS(solver_in(EDMI_PM));
-    solver_build(&sys_a, EDMI_PM, 0);
-    solver_build(&sys_b, EDMI_PM, 0);
+    TH_NEEDS(solver_in(EDMI_SCHEME_PM));
+    solver_build(&sys_a, EDMI_SCHEME_PM, 0);
+    solver_build(&sys_b, EDMI_SCHEME_PM, 0);
     for (k = 0; k < 50; k++)
         if (!CHECK_STATUS(edmi_step(&sys_a, &work_solver, EDMI_R(0.01), NULL), EDMI_OK))
             return;
@@ -170,7 +170,7 @@ static void solver_kept_build(edmi_system *s)
     edmi_params prm = edmi_default_params();
     edmi_potential g = edmi_pot_inverse(EDMI_R(0.01));
     int a, b;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     CHECK_STATUS(edmi_init(s, &prm), EDMI_OK);
     for (a = 0; a < SOLVER_KEPT_N; a++) {
         edmi_real q[3], p[3];
@@ -216,7 +216,7 @@ static void solver_kept(void)
     static const edmi_real tol_rel = EDMI_R(1000.0) * EDMI_EPS;
     edmi_real worst = EDMI_R(0.0), worst_stale = EDMI_R(0.0);
     int k, i, c, its_kept = 0, its_fresh = 0, its_s = 0, its_sf = 0;
-    TH_NEEDS(th_has_scheme(EDMI_PM) && th_has_pot(EDMI_POT_INVERSE));
+    TH_NEEDS(th_has_scheme(EDMI_SCHEME_PM) && th_has_pot(EDMI_POT_INVERSE));
     solver_kept_build(&sys_a);
     for (k = 0; k < 400; k++)
         if (!solver_kept_step(&worst, &its_kept, &its_fresh))
@@ -249,11 +249,11 @@ static void solver_kept(void)
 void suite_solver(void)
 {
     th_suite("solver: banded elimination, numbering, reproducibility");
-    solver_numbering(EDMI_MP);
-    solver_numbering(EDMI_LG);
-    solver_numbering(EDMI_GE);
-    solver_numbering(EDMI_PM);
-    solver_numbering(EDMI_PT);
+    solver_numbering(EDMI_SCHEME_MP);
+    solver_numbering(EDMI_SCHEME_LG);
+    solver_numbering(EDMI_SCHEME_GE);
+    solver_numbering(EDMI_SCHEME_PM);
+    solver_numbering(EDMI_SCHEME_PT);
     solver_bitwise();
     solver_state_writes();
     solver_kept();

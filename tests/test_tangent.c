@@ -295,27 +295,27 @@ static const char *const tg_conf_name[TG_NCONF] = {
 /* Configuration c; *forced = 1 when every link must be on LG's alternate. */
 static edmi_params tg_conf(int c, int *forced)
 {
-    static const edmi_lg_alt alts[5] = {EDMI_ALT_JANZ, EDMI_ALT_GONZALEZ, EDMI_ALT_GE,
-                                        EDMI_ALT_PM, EDMI_ALT_PT};
+    static const edmi_lg_alt alts[5] = {EDMI_LG_ALT_JANZ, EDMI_LG_ALT_GONZALEZ, EDMI_LG_ALT_GE,
+                                        EDMI_LG_ALT_PM, EDMI_LG_ALT_PT};
     edmi_params p = edmi_default_params();
     *forced = 0;
     p.guard = EDMI_GUARD_OFF; /* Newton's own iterate: the guard has its suite (test_guard.c) */
     if (c == 0) {
-        p.scheme = EDMI_MP;
+        p.scheme = EDMI_SCHEME_MP;
     } else if (c == 1) {
-        p.scheme = EDMI_LG;
+        p.scheme = EDMI_SCHEME_LG;
         p.lg_form = EDMI_LG_CLOSED;
     } else if (c == 2) {
-        p.scheme = EDMI_LG;
+        p.scheme = EDMI_SCHEME_LG;
         p.lg_form = EDMI_LG_QUOTIENT; /* default tol_q << every |d1 - d0| here */
     } else if (c <= 7) {
-        p.scheme = EDMI_LG;
+        p.scheme = EDMI_SCHEME_LG;
         p.lg_form = EDMI_LG_QUOTIENT;
         p.lg_alt = alts[c - 3];
         p.tol_q = EDMI_R(1e3); /* larger than any |d1 - d0|: the alternate everywhere */
         *forced = 1;
     } else {
-        p.scheme = c == 8 ? EDMI_GE : c == 9 ? EDMI_PM : EDMI_PT;
+        p.scheme = c == 8 ? EDMI_SCHEME_GE : c == 9 ? EDMI_SCHEME_PM : EDMI_SCHEME_PT;
     }
     return p;
 }
@@ -330,7 +330,7 @@ static int tg_link_beta(const edmi_params *prm, const edmi_potential *pot, edmi_
 {
     edmi_pot_parts a, b, avg;
     edmi_real lam, dd, junk, dl = d1 - d0, da = (d0 + d1) / EDMI_R(2.0);
-    if (prm->scheme == EDMI_MP) {
+    if (prm->scheme == EDMI_SCHEME_MP) {
         if (edmi_pot_eval(pot, dm, &a) != EDMI_OK)
             return 0;
         *beta = a.v[1] / dm; /* V' at the distance between the mid-points */
@@ -340,7 +340,7 @@ static int tg_link_beta(const edmi_params *prm, const edmi_potential *pot, edmi_
         edmi_pot_eval(pot, da, &avg) != EDMI_OK)
         return 0;
     switch (prm->scheme) {
-    case EDMI_LG:
+    case EDMI_SCHEME_LG:
         if (prm->lg_form == EDMI_LG_CLOSED) {
             if (edmi_pot_divdiff(pot, d0, d1, &dd, &junk) != EDMI_OK)
                 return 0;
@@ -349,33 +349,33 @@ static int tg_link_beta(const edmi_params *prm, const edmi_potential *pot, edmi_
             lam = (b.v[0] - a.v[0]) / dl;
         } else {
             switch (prm->lg_alt) {
-            case EDMI_ALT_GONZALEZ:
+            case EDMI_LG_ALT_GONZALEZ:
                 lam = avg.v[1] + dl * dl / EDMI_R(24.0) * avg.v[3];
                 break;
-            case EDMI_ALT_GE:
+            case EDMI_LG_ALT_GE:
                 lam = b.c[1] + a.e[1];
                 break;
-            case EDMI_ALT_PM:
+            case EDMI_LG_ALT_PM:
                 lam = avg.v[1] + dl * dl / EDMI_R(24.0) * (b.sp[3] + a.sm[3]);
                 break;
-            case EDMI_ALT_PT:
+            case EDMI_LG_ALT_PT:
                 lam = (b.v[1] + a.v[1]) / EDMI_R(2.0) -
                       dl * dl / EDMI_R(12.0) * (a.sp[3] + b.sm[3]);
                 break;
-            case EDMI_ALT_JANZ:
+            case EDMI_LG_ALT_JANZ:
             default:
                 lam = avg.v[1];
                 break;
             }
         }
         break;
-    case EDMI_GE:
+    case EDMI_SCHEME_GE:
         lam = b.c[1] + a.e[1];
         break;
-    case EDMI_PM:
+    case EDMI_SCHEME_PM:
         lam = avg.v[1] + dl * dl / EDMI_R(24.0) * (b.sp[3] + a.sm[3]);
         break;
-    case EDMI_PT:
+    case EDMI_SCHEME_PT:
     default:
         lam = (b.v[1] + a.v[1]) / EDMI_R(2.0) - dl * dl / EDMI_R(12.0) * (a.sp[3] + b.sm[3]);
         break;
@@ -534,7 +534,7 @@ static void tg_check_trial(int which, int conf)
             CHECK_NEAR(rp[a][i], xp[a][i], EDMI_R(2.0) * rp_err, EDMI_R(0.0)); /* two sides */
         }
     /* LG quotient: on the alternate exactly when forced (trial |d1 - d0| >> default tol_q). */
-    if (prm.scheme == EDMI_LG && prm.lg_form == EDMI_LG_QUOTIENT)
+    if (prm.scheme == EDMI_SCHEME_LG && prm.lg_form == EDMI_LG_QUOTIENT)
         CHECK(nsw == (forced ? tg_sys.n_links : 0));
     else
         CHECK(nsw == 0);
@@ -691,7 +691,7 @@ static void tg_check_converged(edmi_real dt, const edmi_step_result *res)
     edmi_real rq[TG_NB][3], rp[TG_NB][3], rq0[TG_NB][3], rp0[TG_NB][3];
     edmi_real r, r0, bound = EDMI_R(0.0), next;
     const edmi_params *prm = &tg_old.params;
-    int a, i, quotient = prm->scheme == EDMI_LG && prm->lg_form == EDMI_LG_QUOTIENT;
+    int a, i, quotient = prm->scheme == EDMI_SCHEME_LG && prm->lg_form == EDMI_LG_QUOTIENT;
     for (a = 0; a < tg_old.n_bodies; a++)
         for (i = 0; i < 3; i++) {
             q0[a][i] = tg_old.body[a].q[i];
@@ -765,7 +765,7 @@ static void tg_check_step(int which, int conf)
 
 static void tg_newton_counts(void)
 {
-    static const edmi_scheme schemes[5] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme schemes[5] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     static const char *const runs[3] = {"neo-Hooke dt=1e-2", "neo-Hooke dt=1e-3",
                                         "LJ pair dt=1e-3"};
     int hist[TG_ITER_MAX + 2];
@@ -899,7 +899,7 @@ static const char *const tg_damp_name[TG_NDAMP] = {"anchor link + damper",
 /* What damper scene `which` needs of the build: PM, dampers, its link's potential. */
 static int tg_damp_in(int which)
 {
-    return th_has_scheme(EDMI_PM) && EDMI_MAX_DAMPERS > 0 &&
+    return th_has_scheme(EDMI_SCHEME_PM) && EDMI_MAX_DAMPERS > 0 &&
            th_has_pot(which == TG_DAMP_PAIR ? EDMI_POT_NEO_HOOKE : EDMI_POT_HARMONIC);
 }
 
@@ -917,7 +917,7 @@ static int tg_damp_build(int which, tg_scene *sc, edmi_real *c)
     edmi_params prm = edmi_default_params();
     edmi_potential pot = edmi_pot_harmonic(EDMI_R(3000.0), EDMI_R(0.0));
     int ok, a, i;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.guard = EDMI_GUARD_OFF;
     ok = edmi_init(&tg_sys, &prm) == EDMI_OK;
     sc->dt = EDMI_R(1e-3);
@@ -1033,7 +1033,7 @@ static void tg_damp_crossing(void)
     edmi_params prm = edmi_default_params();
     edmi_real ratio = EDMI_R(0.0);
     int v, e, worst = 0;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     TH_NEEDS(tg_damp_in(TG_DAMP_AXIS));
     for (v = 0; v < 6; v++)
         for (e = 0; e < 3; e++) {
@@ -1083,12 +1083,12 @@ void suite_tangent(void)
     tg_newton_counts();
     /* Steps 10x (neo-Hooke) and 50x (LJ) the paper's, so that Newton needs several
      * corrections and float still resolves one of them (see TG_QUAD_ABOVE_FLOOR). */
-    pairs = tg_quadratic(TG_NEO_ANCHOR, EDMI_MP, EDMI_R(0.1));
-    pairs += tg_quadratic(TG_NEO_ANCHOR, EDMI_LG, EDMI_R(0.1));
-    pairs += tg_quadratic(TG_NEO_ANCHOR, EDMI_PM, EDMI_R(0.1));
-    pairs += tg_quadratic(TG_LJ_PAIR, EDMI_GE, EDMI_R(0.05));
-    pairs += tg_quadratic(TG_LJ_PAIR, EDMI_PT, EDMI_R(0.05));
-    pairs += tg_quadratic(TG_CHAIN, EDMI_MP, EDMI_R(0.2));
+    pairs = tg_quadratic(TG_NEO_ANCHOR, EDMI_SCHEME_MP, EDMI_R(0.1));
+    pairs += tg_quadratic(TG_NEO_ANCHOR, EDMI_SCHEME_LG, EDMI_R(0.1));
+    pairs += tg_quadratic(TG_NEO_ANCHOR, EDMI_SCHEME_PM, EDMI_R(0.1));
+    pairs += tg_quadratic(TG_LJ_PAIR, EDMI_SCHEME_GE, EDMI_R(0.05));
+    pairs += tg_quadratic(TG_LJ_PAIR, EDMI_SCHEME_PT, EDMI_R(0.05));
+    pairs += tg_quadratic(TG_CHAIN, EDMI_SCHEME_MP, EDMI_R(0.2));
     th_note_int("resolved pairs in the asymptotic regime", pairs);
     if (!th_skip(tg_quad_skipped == 0, "all six sequences (the pair count)"))
         CHECK(pairs >= TG_QUAD_MIN_PAIRS);

@@ -339,9 +339,9 @@ static void emit_tol(const char *field, double v, const char *float_value)
 
 static void emit_c(const sim_scene *s, const char *path)
 {
-    static const char *const scheme_c[] = {"EDMI_MP", "EDMI_LG", "EDMI_GE", "EDMI_PM", "EDMI_PT"};
-    static const char *const alt_c[] = {"EDMI_ALT_JANZ", "EDMI_ALT_GONZALEZ", "EDMI_ALT_GE",
-                                        "EDMI_ALT_PM", "EDMI_ALT_PT"};
+    static const char *const scheme_c[] = {"EDMI_SCHEME_MP", "EDMI_SCHEME_LG", "EDMI_SCHEME_GE", "EDMI_SCHEME_PM", "EDMI_SCHEME_PT"};
+    static const char *const alt_c[] = {"EDMI_LG_ALT_JANZ", "EDMI_LG_ALT_GONZALEZ", "EDMI_LG_ALT_GE",
+                                        "EDMI_LG_ALT_PM", "EDMI_LG_ALT_PT"};
     static const char *const guard_c[] = {"EDMI_GUARD_AUTO", "EDMI_GUARD_ON", "EDMI_GUARD_OFF"};
     char b0[40], b1[40], b2[40], b3[40], b4[40], b5[40], b6[40], nm[64];
     int i;
@@ -550,7 +550,7 @@ static void scheme_label(const edmi_params *p, char *buf, size_t n)
 {
     static const char *const up[] = {"MP", "LG", "GE", "PM", "PT"};
     static const char *const alt[] = {"Janz", "Gonzalez", "GE", "PM", "PT"};
-    if (p->scheme == EDMI_LG && p->lg_form == EDMI_LG_QUOTIENT)
+    if (p->scheme == EDMI_SCHEME_LG && p->lg_form == EDMI_LG_QUOTIENT)
         snprintf(buf, n, "LG-Q/%s %.0e", alt[p->lg_alt], (double)p->tol_q);
     else
         snprintf(buf, n, "%s", up[p->scheme]);
@@ -1044,7 +1044,7 @@ static int guard_runs(const edmi_params *p)
 {
     return p->guard == EDMI_GUARD_ON ||
            (p->guard == EDMI_GUARD_AUTO &&
-            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+            (p->scheme == EDMI_SCHEME_GE || p->scheme == EDMI_SCHEME_PM || p->scheme == EDMI_SCHEME_PT));
 }
 
 static void print_summary(const sim_opts *o, const sim_stats *st, double dt, long n_steps,
@@ -1063,7 +1063,7 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
         printf(", %d walls", scn.n_walls);
     printf("\n");
     printf("scheme    %s", lbl);
-    if (p->scheme == EDMI_LG)
+    if (p->scheme == EDMI_SCHEME_LG)
         printf(" (%s)", p->lg_form == EDMI_LG_CLOSED ? "closed-form divided difference"
                                                      : "quotient, alternate below tol_Q");
     printf(", tol_R %.3g, tol_A %.3g, l_max %d%s\n", (double)p->tol_r, (double)p->tol_a,
@@ -1078,7 +1078,7 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
     printf("Newton    %.3f iterations/step (max %d); %ld steps stopped at the round-off floor\n",
            st->steps ? (double)st->iterations / (double)st->steps : 0.0, st->max_iterations,
            st->stalled);
-    if (p->scheme == EDMI_LG && p->lg_form == EDMI_LG_QUOTIENT)
+    if (p->scheme == EDMI_SCHEME_LG && p->lg_form == EDMI_LG_QUOTIENT)
         printf("LG switch %ld steps used the alternate force on some link\n", st->lg_switch_steps);
     printf("H0        %.17g\n", st->h0);
     printf("%s  final %.3e, max %.3e\n",
@@ -1283,7 +1283,7 @@ int main(int argc, char **argv)
     if (fabs((double)n_steps * dt - t_end) > 1e-9 * t_end)
         fprintf(stderr, "edmi-sim: note: t_end = %.10g is not a multiple of dt = %.10g; "
                 "running %ld steps to t = %.10g\n", t_end, dt, n_steps, (double)n_steps * dt);
-    if (o.has_switch && scn.params.scheme != EDMI_LG)
+    if (o.has_switch && scn.params.scheme != EDMI_SCHEME_LG)
         fprintf(stderr, "edmi-sim: note: --lg-switch has no effect with --scheme %s\n",
                 sim_scheme_word(scn.params.scheme));
 
@@ -1373,10 +1373,10 @@ int main(int argc, char **argv)
             st.fallbacks++;
         if (res.guard_action) {
             st.guard_steps++;
-            st.guard_impulse += (res.guard_action & EDMI_GUARD_IMPULSE) != 0;
-            st.guard_drag += (res.guard_action & EDMI_GUARD_DRAG) != 0;
-            st.guard_round += (res.guard_action & EDMI_GUARD_ROUND) != 0;
-            st.guard_stop += (res.guard_action & EDMI_GUARD_STOP) != 0;
+            st.guard_impulse += (res.guard_action & EDMI_MOVE_IMPULSE) != 0;
+            st.guard_drag += (res.guard_action & EDMI_MOVE_DRAG) != 0;
+            st.guard_round += (res.guard_action & EDMI_MOVE_ROUND) != 0;
+            st.guard_stop += (res.guard_action & EDMI_MOVE_STOP) != 0;
         }
         if ((unsigned)res.certificate < 4u)
             st.cert[res.certificate]++;

@@ -90,7 +90,7 @@ static int sim__fail(sim__ctx *c, const char *fmt, ...)
 int sim_parse_scheme(const char *w, edmi_scheme *out)
 {
     static const char *const names[] = {"mp", "lg", "ge", "pm", "pt"};
-    static const edmi_scheme values[] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme values[] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     size_t i;
     for (i = 0; i < sizeof names / sizeof names[0]; i++)
         if (strcmp(w, names[i]) == 0) {
@@ -103,8 +103,8 @@ int sim_parse_scheme(const char *w, edmi_scheme *out)
 int sim_parse_lg_switch(const char *w, edmi_params *prm)
 {
     static const char *const names[] = {"janz", "gonzalez", "ge", "pm", "pt"};
-    static const edmi_lg_alt values[] = {EDMI_ALT_JANZ, EDMI_ALT_GONZALEZ, EDMI_ALT_GE,
-                                         EDMI_ALT_PM, EDMI_ALT_PT};
+    static const edmi_lg_alt values[] = {EDMI_LG_ALT_JANZ, EDMI_LG_ALT_GONZALEZ, EDMI_LG_ALT_GE,
+                                         EDMI_LG_ALT_PM, EDMI_LG_ALT_PT};
     size_t i;
     if (strcmp(w, "closed") == 0) {
         prm->lg_form = EDMI_LG_CLOSED;
@@ -154,11 +154,11 @@ const char *sim_guard_word(edmi_guard_mode g)
 const char *sim_scheme_word(edmi_scheme s)
 {
     switch (s) {
-    case EDMI_MP: return "mp";
-    case EDMI_LG: return "lg";
-    case EDMI_GE: return "ge";
-    case EDMI_PM: return "pm";
-    case EDMI_PT: return "pt";
+    case EDMI_SCHEME_MP: return "mp";
+    case EDMI_SCHEME_LG: return "lg";
+    case EDMI_SCHEME_GE: return "ge";
+    case EDMI_SCHEME_PM: return "pm";
+    case EDMI_SCHEME_PT: return "pt";
     default: return "?";
     }
 }
@@ -168,11 +168,11 @@ const char *sim_lg_switch_word(const edmi_params *prm)
     if (prm->lg_form == EDMI_LG_CLOSED)
         return "closed";
     switch (prm->lg_alt) {
-    case EDMI_ALT_JANZ: return "janz";
-    case EDMI_ALT_GONZALEZ: return "gonzalez";
-    case EDMI_ALT_GE: return "ge";
-    case EDMI_ALT_PM: return "pm";
-    case EDMI_ALT_PT: return "pt";
+    case EDMI_LG_ALT_JANZ: return "janz";
+    case EDMI_LG_ALT_GONZALEZ: return "gonzalez";
+    case EDMI_LG_ALT_GE: return "ge";
+    case EDMI_LG_ALT_PM: return "pm";
+    case EDMI_LG_ALT_PT: return "pt";
     default: return "?";
     }
 }

@@ -288,12 +288,12 @@ int main(int argc, char **argv)
         }
         own = scn.params.scheme;
         run(names[i], own, 0);
-        if (own != EDMI_MP)
-            run(names[i], EDMI_MP, 0);
+        if (own != EDMI_SCHEME_MP)
+            run(names[i], EDMI_SCHEME_MP, 0);
     }
     if (CHECK(sim_scene_parse(mix_scene, "mix.scene", &scn, err, sizeof err) == 0, "mix")) {
-        run("mix", EDMI_PM, 1);
-        run("mix", EDMI_MP, 1);
+        run("mix", EDMI_SCHEME_PM, 1);
+        run("mix", EDMI_SCHEME_MP, 1);
     }
     printf("%ld passed, %ld failed\n", npass, nfail);
     return nfail ? 1 : 0;

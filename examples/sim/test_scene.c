@@ -283,8 +283,8 @@ static void test_valid(void)
     CHECK(scn.n_dampers == 1 + 6 && scn.damper[0].link == 3 && scn.damper[6].link == 5 &&
           scn.damper[6].c == (edmi_real)0.5);
     CHECK(scn.n_forces == 1 && scn.force_body[0] == 0 && scn.force[0][2] == (edmi_real)3);
-    CHECK(scn.params.scheme == EDMI_PT && scn.params.lg_form == EDMI_LG_QUOTIENT &&
-          scn.params.lg_alt == EDMI_ALT_GE && scn.params.l_max == 30 &&
+    CHECK(scn.params.scheme == EDMI_SCHEME_PT && scn.params.lg_form == EDMI_LG_QUOTIENT &&
+          scn.params.lg_alt == EDMI_LG_ALT_GE && scn.params.l_max == 30 &&
           scn.params.tol_q == (edmi_real)1e-6 && scn.params.tol_r == (edmi_real)1e-11 &&
           scn.params.tol_a == (edmi_real)1e-14);
     CHECK(scn.dt == 1e-3 && scn.t_end == 2.0 && scn.every == 7);
@@ -339,7 +339,7 @@ static void test_files(void)
  * this dt: it fails at step 1, as it did before the chord, and is not checked). */
 static void test_solar_big_dt(const char *path)
 {
-    static const edmi_scheme schemes[] = {EDMI_PM, EDMI_LG};
+    static const edmi_scheme schemes[] = {EDMI_SCHEME_PM, EDMI_SCHEME_LG};
     char err[SIM_ERR_MAX];
     int s, k;
     for (s = 0; s < 2; s++) {

@@ -730,8 +730,8 @@ static void run_start(run *r, method m, double dt, double tol_r)
     r->dt = (edmi_real)dt;
     state_from_scene(&r->s);
     if (is_edmi(m)) {
-        static const edmi_scheme scheme_of[] = {EDMI_MP, EDMI_LG, EDMI_LG, EDMI_GE, EDMI_PM,
-                                                EDMI_PT};
+        static const edmi_scheme scheme_of[] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM,
+                                                EDMI_SCHEME_PT};
         edmi_scene view = sim_scene_view(&scn);
         edmi_params prm = scn.params;
         int i;

@@ -324,7 +324,7 @@ static int fz_guard_on(const edmi_params *p)
 {
     return p->guard == EDMI_GUARD_ON ||
            (p->guard == EDMI_GUARD_AUTO &&
-            (p->scheme == EDMI_GE || p->scheme == EDMI_PM || p->scheme == EDMI_PT));
+            (p->scheme == EDMI_SCHEME_GE || p->scheme == EDMI_SCHEME_PM || p->scheme == EDMI_SCHEME_PT));
 }
 
 /* The state the library hands back after a successful step. */

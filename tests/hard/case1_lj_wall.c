@@ -23,7 +23,7 @@ static void one(const char *what, edmi_scheme sch, int quotient, int anchor, edm
     prm.scheme = sch;
     if (quotient) {
         prm.lg_form = EDMI_LG_QUOTIENT;
-        prm.lg_alt = EDMI_ALT_JANZ;
+        prm.lg_alt = EDMI_LG_ALT_JANZ;
     }
     edmi_init(&sys, &prm);
     if (anchor) {
@@ -57,7 +57,7 @@ static void one(const char *what, edmi_scheme sch, int quotient, int anchor, edm
     n_split += s == EDMI_OK && res.substeps > 1;
     n_fb += s == EDMI_OK && res.stop == EDMI_STOP_FALLBACK;
     if (c.max_doc > max_doc) max_doc = c.max_doc;
-    if (c.unsolved_fl && !(res.guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG)))
+    if (c.unsolved_fl && !(res.guard_action & (EDMI_MOVE_IMPULSE | EDMI_MOVE_DRAG)))
         n_unsolved_ng++;
 }
 
@@ -65,7 +65,7 @@ int main(void)
 {
     static const edmi_real sig[] = {3, 10, 50, 100, 150, 236};
     static const edmi_real dts[] = {EDMI_R(1e-3), EDMI_R(1e-2), EDMI_R(0.1), EDMI_R(0.26)};
-    static const edmi_scheme sch[] = {EDMI_MP, EDMI_LG, EDMI_GE, EDMI_PM, EDMI_PT};
+    static const edmi_scheme sch[] = {EDMI_SCHEME_MP, EDMI_SCHEME_LG, EDMI_SCHEME_GE, EDMI_SCHEME_PM, EDMI_SCHEME_PT};
     unsigned i, j, k;
     if (!EDMI_CONFIG_MATCHES()) return 2;
     for (k = 0; k < 5; k++)
@@ -75,13 +75,13 @@ int main(void)
     for (k = 0; k < 5; k++)
         one(hc_scheme_name(sch[k]), sch[k], 0, 0, 236, EDMI_R(0.2588));
     for (i = 0; i < sizeof sig / sizeof sig[0]; i++) {
-        one("LGq+Janz", EDMI_LG, 1, 0, sig[i], EDMI_R(0.2588));
+        one("LGq+Janz", EDMI_SCHEME_LG, 1, 0, sig[i], EDMI_R(0.2588));
         for (j = 0; j < sizeof dts / sizeof dts[0]; j++)
-            one("LGq+Janz", EDMI_LG, 1, 0, sig[i], dts[j]);
+            one("LGq+Janz", EDMI_SCHEME_LG, 1, 0, sig[i], dts[j]);
     }
     for (i = 0; i < sizeof sig / sizeof sig[0]; i++)
         for (j = 0; j < sizeof dts / sizeof dts[0]; j++)
-            one("MP-anchor", EDMI_MP, 0, 1, sig[i], dts[j]);
+            one("MP-anchor", EDMI_SCHEME_MP, 0, 1, sig[i], dts[j]);
     printf("%-6s case1 summary: %ld single steps, %ld EDMI_OK (%ld split into substeps, %ld fallbacks), "
            "%ld OK but unsolved (rob > 1e3 eps), "
            "%ld beyond 1e3 x the rounding floor (%ld of them without a guard impulse/drag), "

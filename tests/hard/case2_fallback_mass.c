@@ -24,7 +24,7 @@ static void run(const char *label, int nb, edmi_real m, edmi_real mc, edmi_real 
     char buf[96];
     int i;
     long n;
-    prm.scheme = EDMI_PM;
+    prm.scheme = EDMI_SCHEME_PM;
     prm.fallback = fallback;
     edmi_init(&sys, &prm);
     for (i = 0; i < nb; i++)

@@ -48,7 +48,7 @@ static void run(edmi_scheme sch, int user, int with_dd, int fallback, long steps
 
 int main(void)
 {
-    static const edmi_scheme sch[] = {EDMI_PT, EDMI_GE, EDMI_PM};
+    static const edmi_scheme sch[] = {EDMI_SCHEME_PT, EDMI_SCHEME_GE, EDMI_SCHEME_PM};
     unsigned i;
     int fb;
     if (!EDMI_CONFIG_MATCHES()) return 2;

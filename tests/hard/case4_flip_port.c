@@ -102,18 +102,18 @@ int main(int argc, char **argv)
     if (!EDMI_CONFIG_MATCHES()) return 2;
     for (i = 0; i < sizeof amps / sizeof amps[0]; i++)
         for (fb = 0; fb <= 1; fb++)
-            run("(a) flip", 0, EDMI_R(0.05), amps[i], fb, 20, steps, EDMI_PM);
+            run("(a) flip", 0, EDMI_R(0.05), amps[i], fb, 20, steps, EDMI_SCHEME_PM);
     for (i = 0; i < sizeof hamps / sizeof hamps[0]; i++)
         for (fb = 0; fb <= 1; fb++)
-            run("(a2) held", 2, EDMI_R(0.05), hamps[i], fb, 20, steps, EDMI_PM);
+            run("(a2) held", 2, EDMI_R(0.05), hamps[i], fb, 20, steps, EDMI_SCHEME_PM);
     for (i = 0; i < sizeof ramps / sizeof ramps[0]; i++)
         for (fb = 0; fb <= 1; fb++) {
-            run("(b) radial", 1, EDMI_R(0.05), ramps[i], fb, 20, steps, EDMI_PM);
-            run("(b) radial", 1, EDMI_R(0.0), ramps[i], fb, 20, steps, EDMI_PM);
+            run("(b) radial", 1, EDMI_R(0.05), ramps[i], fb, 20, steps, EDMI_SCHEME_PM);
+            run("(b) radial", 1, EDMI_R(0.0), ramps[i], fb, 20, steps, EDMI_SCHEME_PM);
         }
     for (i = 0; i < sizeof amps / sizeof amps[0]; i += 2)
-        run("(c) flip", 0, EDMI_R(0.05), amps[i], 1, 1, steps, EDMI_PM);
+        run("(c) flip", 0, EDMI_R(0.05), amps[i], 1, 1, steps, EDMI_SCHEME_PM);
     for (i = 0; i < sizeof hamps / sizeof hamps[0]; i++)
-        run("(c) held", 2, EDMI_R(0.05), hamps[i], 1, 1, steps, EDMI_PM);
+        run("(c) held", 2, EDMI_R(0.05), hamps[i], 1, 1, steps, EDMI_SCHEME_PM);
     return 0;
 }

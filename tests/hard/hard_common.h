@@ -150,7 +150,7 @@ static edmi_status hc_step(edmi_system *sys, edmi_workspace *w, edmi_real dt,
             if (c->first_fb < 0) c->first_fb = c->steps;
             c->fallback++;
         } else if (res->substeps == 1) { /* a split step solves each substep, not dt */
-            if (res->guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG))
+            if (res->guard_action & (EDMI_MOVE_IMPULSE | EDMI_MOVE_DRAG))
                 c->guard_moved++;
             if (hc_check(sys, w, dt, &a, &b) != EDMI_OK) {
                 c->resid_fail++;
@@ -161,11 +161,11 @@ static edmi_status hc_step(edmi_system *sys, edmi_workspace *w, edmi_real dt,
                 if (!(hc_last_flr <= c->max_flr)) c->max_flr = hc_last_flr;
                 if (!(hc_last_doc <= c->max_doc)) c->max_doc = hc_last_doc;
                 if (!(hc_last_doc <= 2.0 * EDMI_SOLVED) &&
-                    !(res->guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG)))
+                    !(res->guard_action & (EDMI_MOVE_IMPULSE | EDMI_MOVE_DRAG)))
                     c->beyond_doc++;
                 if (!(hc_last_flr <= 1e3)) {
                     c->unsolved_fl++;
-                    if (!(res->guard_action & (EDMI_GUARD_IMPULSE | EDMI_GUARD_DRAG)))
+                    if (!(res->guard_action & (EDMI_MOVE_IMPULSE | EDMI_MOVE_DRAG)))
                         c->unsolved_ng++;
                 }
             }
