@@ -100,7 +100,7 @@
 #define EDMI__HAS_POT(k) (EDMI__POTS == 255u || (EDMI__POTS >> (k) & 1u) != 0)
 /* The field and the force ports in use: the constant 0 when compiled out (as dampers). */
 #define EDMI__HAS_FIELD(s) (EDMI_WITH_FIELD && (s)->has_field)
-#define EDMI__N_FORCED(s) (EDMI_WITH_PORTS ? (s)->n_forced : 0)
+#define EDMI__N_FORCED(s) (EDMI_WITH_PORTS ? (s)->internal.n_forced : 0)
 /* Whether the mass matrix has off-diagonal entries (the constant 0 when compiled out). */
 #if EDMI_MAX_MASS_GAP > 0
 #define EDMI__COUPLED(s) (edmi__mass_gap(s) > 0)
@@ -748,7 +748,7 @@ static edmi_status edmi__pot_check(const edmi_potential *pot)
 /* Evaluate a validated potential at r > 0: V in o->v and, with `split`, its convex/concave
  * and super-convex/super-concave parts (a user potential's always). Where only V is read (the
  * mid-point's and PM's mean lengths) the parts are not copied: 2-6 % of a Cortex-M4F step for
- * MP and PM. EDMI_ERR_DIVERGED if a user callback refuses r. */
+ * MP and PM. EDMI_ERR_DOMAIN if a user callback refuses r. */
 static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_pot_parts *o,
                                    int split)
 {
@@ -790,7 +790,7 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
     case EDMI_POT_USER:
     default:
         if (pot->fn(pot->ctx, r, o) != 0)
-            return EDMI_ERR_DIVERGED;
+            return EDMI_ERR_DOMAIN;
         for (i = 0; i < 5; i++)
             o->v[i] = o->c[i] + o->e[i];
         break;
@@ -938,7 +938,7 @@ static edmi_status edmi__divdiff(const edmi_potential *pot, edmi_real d0, edmi_r
     default:
         if (pot->dd == 0)
             return EDMI_ERR_PARAM;
-        return pot->dd(pot->ctx, d0, d1, dd, dd_d1) == 0 ? EDMI_OK : EDMI_ERR_DIVERGED;
+        return pot->dd(pot->ctx, d0, d1, dd, dd_d1) == 0 ? EDMI_OK : EDMI_ERR_DOMAIN;
 #else
     default: /* a kind compiled out: refused by edmi__pot_check */
         return EDMI_ERR_DISABLED;
@@ -1105,7 +1105,7 @@ edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts
     if (st != EDMI_OK)
         return st;
     if (!edmi__parts_finite(&pp))
-        return EDMI_ERR_RANGE;
+        return EDMI_ERR_OVERFLOW;
     edmi__copy5(pp.v, out->v); /* part by part: a struct copy would need memcpy */
     edmi__copy5(pp.c, out->c);
     edmi__copy5(pp.e, out->e);
@@ -1130,7 +1130,7 @@ edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real 
     if (st != EDMI_OK)
         return st;
     if (!edmi__finite(x) || !edmi__finite(x1))
-        return EDMI_ERR_RANGE;
+        return EDMI_ERR_OVERFLOW;
     *dd = x;
     *dd_d1 = x1;
     return EDMI_OK;
@@ -1367,7 +1367,7 @@ static edmi_status edmi__beta_mp(const edmi_potential *pot, edmi_link_ws *w)
     edmi_real dm = edmi__norm(w->rm);
     edmi_status st;
     if (!(dm > EDMI__ZERO) || !edmi__finite(dm))
-        return EDMI_ERR_DIVERGED;
+        return EDMI_ERR_DOMAIN;
     st = edmi__pot_parts(pot, dm, &pm, 0); /* V only */
     if (st != EDMI_OK)
         return st;
@@ -1389,7 +1389,7 @@ static edmi_status edmi__beta_split(const edmi_params *prm, const edmi_potential
     int need, lg_closed = 0, lg_switch = 0;
     e.d1 = edmi__norm(r1);
     if (!(e.d1 > EDMI__ZERO) || !edmi__finite(e.d1))
-        return EDMI_ERR_DIVERGED;
+        return EDMI_ERR_DOMAIN;
     if (EDMI__HAS_SCHEME(EDMI_SCHEME_LG) && prm->scheme == EDMI_SCHEME_LG) {
         /* without the quotient form, a user potential under LG has its divided difference
          * (edmi__validate_system) */
@@ -1759,14 +1759,14 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         w->d3p0 = p0.sp[3];
         w->d3m0 = p0.sm[3];
     }
-    for (i = 0; i < sys->n_moving; i++)
-        edmi__copy3(sys->anchor_next[sys->moving[i]], work->lw[sys->moving[i]].x1);
+    for (i = 0; i < sys->internal.n_moving; i++)
+        edmi__copy3(sys->internal.anchor_next[sys->internal.moving[i]], work->lw[sys->internal.moving[i]].x1);
 #if EDMI_MAX_WALLS > 0
     for (i = 0; i < EDMI__N_WALLS(sys); i++) {
         const edmi_wall *wl = &sys->wall[i];
         edmi_link_ws *w = &work->ww[i];
         edmi_pot_parts p0;
-        w->x1[0] = sys->wall_next[i]; /* where it is at the step's end */
+        w->x1[0] = sys->internal.wall_next[i]; /* where it is at the step's end */
         w->d0 = edmi__wall_gap(wl, sys->body[wl->a].q, wl->c);
         if (edmi__pot_parts(&wl->pot, w->d0, &p0, 1) != EDMI_OK || !edmi__finite(w->d0) ||
             !edmi__finite(p0.v[0]) || !edmi__finite(p0.v[1]))
@@ -1847,7 +1847,7 @@ static edmi_status edmi__wall_force(const edmi_system *sys, edmi_workspace *work
     edmi_status st = EDMI_OK;
     e.d1 = edmi__wall_gap(wl, q1, w->x1[0]);
     if (!edmi__finite(e.d1))
-        return EDMI_ERR_DIVERGED;
+        return EDMI_ERR_DOMAIN;
     if (edmi__wall_off(pot, w->d0) && edmi__wall_off(pot, e.d1)) {
         /* off the body at both ends: every scheme's Lambda and its slope are 0 (V, V', V''
          * and V''' vanish on the free side and at the kink, and every mean of the two gaps
@@ -1917,7 +1917,7 @@ static edmi_status edmi__damper(const edmi_link_ws *w, edmi_real c, const edmi_r
         return EDMI_OK;
     }
     if (!(rho > EDMI__ZERO) || !edmi__finite(rho))
-        return EDMI_ERR_DIVERGED;
+        return EDMI_ERR_DOMAIN;
     for (i = 0; i < 3; i++)
         n[i] /= rho;
     s = edmi__dot(dr, n);
@@ -1940,7 +1940,7 @@ static edmi_status edmi__effects_residual(const edmi_system *sys, edmi_workspace
 {
     int a, i;
     for (a = 0; a < EDMI__N_FORCED(sys); a++) {
-        int b = sys->forced[a];
+        int b = sys->internal.forced[a];
         for (i = 0; i < 3; i++)
             rp[b][i] -= dt * sys->force[b][i];
     }
@@ -2022,7 +2022,7 @@ static edmi_status edmi__residual(const edmi_system *sys, edmi_workspace *work, 
         return st;
     for (a = 0; a < sys->n_bodies; a++)
         if (!edmi__finite3(rq[a]) || !edmi__finite3(rp[a]))
-            return EDMI_ERR_DIVERGED;
+            return EDMI_ERR_OVERFLOW;
     if (switches)
         *switches = nsw;
     return EDMI_OK;
@@ -2512,7 +2512,7 @@ static edmi_status edmi__set_scales(const edmi_system *sys, edmi_workspace *work
         edmi_real sq = edmi__norm(bd->q) + dt / bd->m * sp;
         /* A scale that overflows would make every residual look like 0 against it. */
         if (!edmi__finite(sq))
-            return EDMI_ERR_RANGE;
+            return EDMI_ERR_OVERFLOW;
         work->sp[a] = sp > EDMI__ZERO ? sp : EDMI__ONE;
         work->sq[a] = sq > EDMI__ZERO ? sq : EDMI__ONE;
     }
@@ -2561,14 +2561,15 @@ static edmi_status edmi__line_search(const edmi_system *sys, edmi_workspace *wor
     int h;
     edmi__move(sys, work, lambda);
     st = edmi__evaluate(sys, work, dt, r, res);
-    for (h = 0; h < EDMI__MAX_HALVINGS && st == EDMI_ERR_DIVERGED; h++) {
+    for (h = 0; h < EDMI__MAX_HALVINGS && (st == EDMI_ERR_DOMAIN || st == EDMI_ERR_OVERFLOW);
+         h++) {
         lambda *= EDMI__HALF;
         edmi__move(sys, work, -lambda);
         st = edmi__evaluate(sys, work, dt, r, res);
         res->halvings++;
     }
     *moved = lambda;
-    return st;
+    return st == EDMI_ERR_DOMAIN || st == EDMI_ERR_OVERFLOW ? EDMI_ERR_DIVERGED : st;
 }
 
 /* Every stop that returns EDMI_OK has each body's residual within this factor of its
@@ -2617,7 +2618,7 @@ static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real 
         }
 #endif
     for (i = 0; i < EDMI__N_FORCED(sys); i++)
-        acc[2 * sys->forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->forced[i]]);
+        acc[2 * sys->internal.forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->internal.forced[i]]);
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         const edmi_link_ws *w = &work->lw[j];
@@ -3094,7 +3095,7 @@ static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
            EDMI_R(2.0) * edmi__abs(lam) * ddu + edmi__abs(pa.v[2]) * add * ddu + EDMI__DW_TINY +
            add * EDMI__USER_TINY * (EDMI__ONE + add * add / EDMI_R(12.0));
     *mag1 = edmi__pot_mag(&lk->pot, &p1, d1);
-    return edmi__finite(*ub) && edmi__finite(*err) ? EDMI_OK : EDMI_ERR_RANGE;
+    return edmi__finite(*ub) && edmi__finite(*err) ? EDMI_OK : EDMI_ERR_OVERFLOW;
 }
 
 /* The plain certificate (step 1 above): H_n+1 - H_n - work evaluated term by term in working
@@ -3206,7 +3207,7 @@ static edmi_status edmi__plain_excess(const edmi_system *sys, edmi_workspace *wo
     pl->s1 = s1;
     if (!edmi__finite(pl->m) || !edmi__finite(e))
         pl->ok = 0;
-    return edmi__finite(s1) ? EDMI_OK : EDMI_ERR_RANGE;
+    return edmi__finite(s1) ? EDMI_OK : EDMI_ERR_OVERFLOW;
 }
 
 /* What edmi__set_scale needs for the step's double-word evaluation: the largest momentum
@@ -4258,7 +4259,7 @@ static void edmi__grad_q(const edmi_system *sys, const edmi_workspace *work, int
         g[i] = EDMI__HAS_FIELD(sys) ? -sys->body[a].m * sys->g[i] : EDMI__ZERO;
 #endif
     for (j = 0; j < EDMI__N_FORCED(sys); j++)
-        if (sys->forced[j] == a)
+        if (sys->internal.forced[j] == a)
             for (i = 0; i < 3; i++)
                 g[i] -= sys->force[a][i];
     for (j = 0; j < sys->n_links; j++) {
@@ -4357,7 +4358,7 @@ static void edmi__port_work(const edmi_system *sys, const edmi_workspace *work,
     wx.w = edmi__dw_of(EDMI__ZERO);
     wx.err = EDMI__ZERO;
     for (a = 0; a < EDMI__N_FORCED(sys); a++) {
-        int b = sys->forced[a];
+        int b = sys->internal.forced[a];
         edmi__work_add(&wx, sys->force[b], work->q1[b], sys->body[b].q, 1);
     }
     res->work_ext = edmi__work_down(&wx);
@@ -4459,7 +4460,7 @@ enum { EDMI__MOVE_HOLD, EDMI__MOVE_IMPULSE, EDMI__MOVE_ROUND, EDMI__MOVE_DRAG,
 static int edmi__held(const edmi_system *sys, const edmi_workspace *work)
 {
     int a;
-    if (sys->n_moving > 0 || EDMI__COUPLED(sys))
+    if (sys->internal.n_moving > 0 || EDMI__COUPLED(sys))
         return 0;
     for (a = 0; a < sys->n_bodies; a++)
         if (!edmi__same3(sys->body[a].q, work->q1[a]))
@@ -4586,19 +4587,18 @@ static edmi_status edmi__guard(const edmi_system *sys, edmi_workspace *work, edm
  * > 0 (or 0 on a linear spring), a user potential that accepts it, and V and V' finite there.
  * MP evaluates only the mid-point, and LG's alternate forces only d_n and the mean length, so
  * Newton's solution can end a link at length 0 (a body landing exactly on its anchor),
- * outside a user potential's domain or where V' overflows (EDMI_ERR_DIVERGED, RANGE): a
- * failure of the step (substeps, the fallback), not a state the next call would refuse. */
+ * outside a user potential's domain or where V' overflows: EDMI_ERR_END_STATE, a failure of
+ * the step (substeps, the fallback), not a state the next call would refuse. */
 static edmi_status edmi__end_valid(const edmi_link *lk, const edmi_real r1[3])
 {
     edmi_pot_parts pp;
-    edmi_status st;
     if (r1[0] == EDMI__ZERO && r1[1] == EDMI__ZERO && r1[2] == EDMI__ZERO)
-        return edmi__is_linear(&lk->pot) ? EDMI_OK : EDMI_ERR_DIVERGED;
+        return edmi__is_linear(&lk->pot) ? EDMI_OK : EDMI_ERR_END_STATE;
     /* a linear spring too: k/2 d^2 overflows first (a body pushed 1e164 far by a field) */
-    st = edmi__pot_parts(&lk->pot, edmi__norm(r1), &pp, 1);
-    if (st == EDMI_OK && !(edmi__finite(pp.v[0]) && edmi__finite(pp.v[1])))
-        st = EDMI_ERR_RANGE; /* the next step could not start there (edmi__prepare_links) */
-    return st;
+    if (edmi__pot_parts(&lk->pot, edmi__norm(r1), &pp, 1) != EDMI_OK ||
+        !(edmi__finite(pp.v[0]) && edmi__finite(pp.v[1])))
+        return EDMI_ERR_END_STATE; /* the next step could not start there */
+    return EDMI_OK;
 }
 
 /* The same where Newton's last evaluation already had V and its magnitude M at this d_n+1
@@ -4613,14 +4613,12 @@ static edmi_status edmi__end_valid_known(const edmi_link *lk, const edmi_link_ws
     return edmi__end_valid(lk, r1);
 }
 
-/* Every link's end valid at the stored positions (edmi__end_valid), after the guard moved
- * them: a position rounded by a unit can cross a user potential's domain edge. */
 #if EDMI_MAX_WALLS > 0
 /* A wall's end state is one the next step starts from (edmi__prepare_links): the gap, V and
  * V' finite there. Only the force's Lambda enters Newton's equations, so a body can end far
- * through a wall, where V overflows (measured by the fuzzer: a field of 1e28 in float):
- * EDMI_ERR_RANGE, a failure of the step (substeps, the fallback), not a start the next call
- * would refuse. */
+ * through a wall, where V overflows (a strong field; docs/testing.md lists the fuzzer's
+ * case): EDMI_ERR_END_STATE, a failure of the step (substeps, the fallback), not a start the
+ * next call would refuse. */
 static edmi_status edmi__wall_end_valid(const edmi_system *sys, const edmi_workspace *work,
                                         int j)
 {
@@ -4629,11 +4627,13 @@ static edmi_status edmi__wall_end_valid(const edmi_system *sys, const edmi_works
     edmi_pot_parts pp;
     if (!edmi__finite(g1) || edmi__pot_parts(&wl->pot, g1, &pp, 0) != EDMI_OK ||
         !edmi__finite(pp.v[0]) || !edmi__finite(pp.v[1]))
-        return EDMI_ERR_RANGE;
+        return EDMI_ERR_END_STATE;
     return EDMI_OK;
 }
-
 #endif
+
+/* Every link's end valid at the stored positions (edmi__end_valid), after the guard moved
+ * them: a position rounded by a unit can cross a user potential's domain edge. */
 static edmi_status edmi__ends_valid(const edmi_system *sys, const edmi_workspace *work)
 {
     const edmi_real (*q1)[3] = (const edmi_real (*)[3])work->q1;
@@ -4650,7 +4650,7 @@ static edmi_status edmi__ends_valid(const edmi_system *sys, const edmi_workspace
 #if EDMI_MAX_WALLS > 0
     for (j = 0; j < sys->n_walls; j++)
         if (edmi__wall_end_valid(sys, work, j) != EDMI_OK)
-            return EDMI_ERR_RANGE;
+            return EDMI_ERR_END_STATE;
 #endif
     return EDMI_OK;
 }
@@ -4669,7 +4669,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     wx.w = wa.w = edmi__dw_of(EDMI__ZERO);
     wx.err = wa.err = EDMI__ZERO;
     for (a = 0; a < EDMI__N_FORCED(sys); a++) {
-        int b = sys->forced[a];
+        int b = sys->internal.forced[a];
         edmi__work_add(&wx, sys->force[b], q1[b], sys->body[b].q, 1);
     }
     for (j = 0; j < sys->n_links; j++) {
@@ -4702,8 +4702,10 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* its force, and a moving wall's work */
         edmi_real c0 = sys->wall[j].c, c1 = work->ww[j].x1[0];
         edmi__scale3(work->ww[j].beta, sys->wall[j].n, work->ww[j].f);
-        if (!edmi__finite3(work->ww[j].f) || edmi__wall_end_valid(sys, work, j) != EDMI_OK)
-            return EDMI_ERR_RANGE;
+        if (!edmi__finite3(work->ww[j].f))
+            return EDMI_ERR_OVERFLOW;
+        if (edmi__wall_end_valid(sys, work, j) != EDMI_OK)
+            return EDMI_ERR_END_STATE;
         if (c1 != c0) /* -Lambda (c_n+1 - c_n), the difference exact */
             edmi__work_add_dw(&wa,
                               edmi__dw_neg(edmi__dw_mul_r(edmi__two_sum(c1, -c0),
@@ -4713,8 +4715,8 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
                                   EDMI__DW_TINY * (EDMI__ONE + edmi__abs(work->ww[j].beta)));
     }
 #endif
-    for (i = 0; i < sys->n_moving; i++) {
-        j = sys->moving[i];
+    for (i = 0; i < sys->internal.n_moving; i++) {
+        j = sys->internal.moving[i];
         edmi__work_add(&wa, work->lw[j].f, work->lw[j].x1, sys->link[j].anchor, -1);
     }
     res->work_ext = edmi__work_down(&wx);
@@ -4722,7 +4724,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     bal->w = edmi__two_sum(res->work_ext, res->work_anchor);
     for (j = 0; j < sys->n_links; j++)
         if (!edmi__finite3(work->lw[j].f))
-            return EDMI_ERR_RANGE; /* a link force beyond the range */
+            return EDMI_ERR_OVERFLOW; /* a link force beyond the range */
     return EDMI_OK;
 }
 
@@ -4736,7 +4738,7 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
  * step. Where no anchor moves nothing can fail: H changes by K's change alone, and where even
  * that cannot be evaluated (beyond the range) the momenta are set to 0, K_n+1 = 0 <= K_n. A
  * moved anchor that ends on its body or where its energy is beyond the range fails the call
- * (EDMI_ERR_DIVERGED, EDMI_ERR_RANGE): no state with the bodies kept is passive then. */
+ * (EDMI_ERR_END_STATE, EDMI_ERR_OVERFLOW): no state with the bodies kept is passive then. */
 static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
                                 edmi_step_result *res)
 {
@@ -4792,7 +4794,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         for (i = 0; i < 3; i++) /* V'(d) times the unit vector: finite where V' is */
             w->f[i] = edmi__is_linear(&lk->pot) ? w->beta * r1[i] : dv * (r1[i] / d1);
         if (!edmi__finite3(w->f))
-            return EDMI_ERR_RANGE; /* a moved anchor's force (the kept links' are V'(d_n)) */
+            return EDMI_ERR_OVERFLOW; /* a moved anchor's force (the kept links' are V'(d_n)) */
     }
 #if EDMI_MAX_WALLS > 0
     for (j = 0; j < EDMI__N_WALLS(sys); j++) { /* positions kept: V'(g) n at the step's end */
@@ -4802,7 +4804,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         edmi_real g1 = edmi__wall_gap(wl, sys->body[wl->a].q, w->x1[0]);
         if (edmi__pot_parts(&wl->pot, g1, &pp, 0) != EDMI_OK || !edmi__finite(pp.v[0]) ||
             !edmi__finite(pp.v[1]))
-            return EDMI_ERR_RANGE; /* a moved wall's energy beyond the range */
+            return EDMI_ERR_OVERFLOW; /* a moved wall's energy beyond the range */
         w->beta = pp.v[1];
         edmi__scale3(w->beta, wl->n, w->f);
         s1 += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(w->x1[0]));
@@ -4819,10 +4821,10 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
     res->work_anchor = EDMI__ZERO;
     edmi__set_scale(&bal, xh, so);
     bal.scheme_on = 0;
-    if (sys->n_moving > 0 || moved_walls > 0) {
+    if (sys->internal.n_moving > 0 || moved_walls > 0) {
         st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
         if (st != EDMI_OK)
-            return EDMI_ERR_RANGE; /* the moved anchors' (walls') energy beyond the range */
+            return EDMI_ERR_OVERFLOW; /* the moved anchors' (walls') energy beyond the range */
         /* dv + |dv.lo| + err_v >= the exact change, its two sums rounded up: each errs by
          * at most eps/2 of its terms (not of the sum, which can cancel), so 4 eps of them
          * covers both, the division by scale^2 and a subnormal quotient (REAL_MIN) */
@@ -4830,7 +4832,7 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         wa += (edmi__abs(bal.dv.hi) + edmi__abs(bal.dv.lo) + bal.err_v) * (EDMI_R(4.0) * EDMI_EPS);
         res->work_anchor = edmi__down2(&bal, wa) + EDMI__REAL_MIN;
         if (!edmi__finite(res->work_anchor))
-            return EDMI_ERR_RANGE;
+            return EDMI_ERR_OVERFLOW;
     } else { /* nothing moved: every link term is exactly 0 (edmi__delta_v) */
         bal.dv = edmi__dw_of(EDMI__ZERO);
         bal.err_v = bal.size_v = EDMI__ZERO;
@@ -4884,7 +4886,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
     int guard = edmi__guard_on(&sys->params), exact = sys->params.energy_balance;
     if (st == EDMI_OK && !(edmi__finite(res->work_ext) && edmi__finite(res->work_anchor) &&
                            edmi__finite(res->diss_damping)))
-        st = EDMI_ERR_RANGE; /* a port's work F . dq or a damper's loss beyond the range */
+        st = EDMI_ERR_OVERFLOW; /* a port's work F . dq or a damper's loss beyond the range */
     if (st != EDMI_OK || (!guard && !exact))
         return st;
     st = edmi__plain_excess(sys, work, res, &pl);
@@ -4912,7 +4914,7 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
         return st;
     res->diss_scheme = exact ? edmi__down2(&bal, edmi__dw_real(bal.scheme)) : pl.scheme;
     if (!edmi__finite(res->diss_scheme) || !edmi__finite(edmi__dw_real(bal.dv)))
-        return EDMI_ERR_RANGE; /* a link energy (|r|^2, V) beyond the range */
+        return EDMI_ERR_OVERFLOW; /* a link energy (|r|^2, V) beyond the range */
     res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
     if (guard) {
         st = edmi__guard(sys, work, &bal, res->tank_cap, quick, res);
@@ -4950,8 +4952,8 @@ static edmi_status edmi__finish(const edmi_system *sys, edmi_workspace *work, ed
  * keeps the centre-of-mass invariant C(t) = (sum m q - t L)/M free of clock drift. */
 static void edmi__advance_clock(edmi_system *sys, edmi_real dt)
 {
-    edmi_real y = dt - sys->t_carry, t = sys->t + y;
-    sys->t_carry = (t - sys->t) - y;
+    edmi_real y = dt - sys->internal.t_carry, t = sys->t + y;
+    sys->internal.t_carry = (t - sys->t) - y;
     sys->t = t;
 }
 
@@ -4983,7 +4985,7 @@ static void edmi__clear_result(edmi_step_result *res)
 static int edmi__is_step_failure(edmi_status st)
 {
     return st == EDMI_ERR_SINGULAR || st == EDMI_ERR_NO_CONVERGENCE || st == EDMI_ERR_DIVERGED ||
-           st == EDMI_ERR_PASSIVITY || st == EDMI_ERR_RANGE;
+           st == EDMI_ERR_PASSIVITY || st == EDMI_ERR_OVERFLOW || st == EDMI_ERR_END_STATE;
 }
 
 /* One step of dt from the system's state (its links prepared), into work and *res; nothing
@@ -4996,16 +4998,18 @@ static edmi_status edmi__attempt(const edmi_system *sys, edmi_workspace *work, e
     edmi__clear_result(res);
     res->tank = sys->tank; /* the guard sets the tank after the step */
     st = edmi__predictor(sys, work, dt, res);
-    if (st != EDMI_OK)
-        return st;
+    if (st != EDMI_OK) /* the start's own residual outside the domain: a failed step */
+        return st == EDMI_ERR_DOMAIN || st == EDMI_ERR_OVERFLOW ? EDMI_ERR_DIVERGED : st;
     st = edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
     if (st != EDMI_OK)
         return st;
     res->residual0 = edmi__scaled_residual(sys, work); /* then is measured with them */
     res->residual = res->residual0;
     if (!edmi__finite(res->residual0)) /* beyond the precision's range: nothing to solve */
-        return EDMI_ERR_RANGE;
+        return EDMI_ERR_OVERFLOW;
     st = edmi__newton(sys, work, dt, res);
+    if (st == EDMI_ERR_DOMAIN) /* an iterate outside the domain that halving never reached */
+        return EDMI_ERR_DIVERGED;
     return st == EDMI_OK ? edmi__finish(sys, work, dt, 0, res) : st;
 }
 
@@ -5039,12 +5043,12 @@ static void edmi__commit(edmi_system *sys, const edmi_workspace *work, edmi_real
         edmi__copy3(work->q1[a], sys->body[a].q);
         edmi__copy3(work->p1[a], sys->body[a].p);
     }
-    for (i = 0; i < sys->n_moving; i++)
-        edmi__copy3(sys->anchor_next[sys->moving[i]], sys->link[sys->moving[i]].anchor);
-    sys->n_moving = 0;
+    for (i = 0; i < sys->internal.n_moving; i++)
+        edmi__copy3(sys->internal.anchor_next[sys->internal.moving[i]], sys->link[sys->internal.moving[i]].anchor);
+    sys->internal.n_moving = 0;
 #if EDMI_MAX_WALLS > 0
     for (i = 0; i < sys->n_walls; i++) /* a moved wall rests where it got to */
-        sys->wall[i].c = sys->wall_next[i];
+        sys->wall[i].c = sys->internal.wall_next[i];
 #endif
     sys->tank = tank;
 }
@@ -5140,16 +5144,16 @@ static void edmi__restore(edmi_system *sys, const edmi_workspace *work, edmi_rea
         edmi__copy3(work->p0[a], sys->body[a].p);
     }
     sys->tank = tank;
-    sys->n_moving = n_moving;
+    sys->internal.n_moving = n_moving;
     for (i = 0; i < n_moving; i++) {
-        int j = sys->moving[i];
+        int j = sys->internal.moving[i];
         edmi__copy3(work->lw[j].xs, sys->link[j].anchor);
-        edmi__copy3(work->lw[j].xt, sys->anchor_next[j]);
+        edmi__copy3(work->lw[j].xt, sys->internal.anchor_next[j]);
     }
 #if EDMI_MAX_WALLS > 0
     for (i = 0; i < sys->n_walls; i++) {
         sys->wall[i].c = work->ww[i].xs[0];
-        sys->wall_next[i] = work->ww[i].xt[0];
+        sys->internal.wall_next[i] = work->ww[i].xt[0];
     }
 #endif
 }
@@ -5178,7 +5182,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     edmi__dw wx = edmi__dw_of(EDMI__ZERO), wa = edmi__dw_of(EDMI__ZERO);
     edmi_real tank0 = sys->tank, h;
     edmi_status st = cause;
-    int k = sys->params.substep_levels, n_moving = sys->n_moving, level, pos = 0, a, i, j;
+    int k = sys->params.substep_levels, n_moving = sys->internal.n_moving, level, pos = 0, a, i, j;
     int iterations = res->iterations, halvings = res->halvings;
     edmi_real residual0 = res->residual0;
     for (h = dt, i = 0; i < k; i++) /* the finest substep stays a normal number */
@@ -5209,13 +5213,13 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         for (i = 0; i < 3; i++) {
             work->ww[j].fsum[i] = EDMI__ZERO;
             work->ww[j].xs[i] = i == 0 ? sys->wall[j].c : EDMI__ZERO;
-            work->ww[j].xt[i] = i == 0 ? sys->wall_next[j] : EDMI__ZERO;
+            work->ww[j].xt[i] = i == 0 ? sys->internal.wall_next[j] : EDMI__ZERO;
         }
 #endif
     for (i = 0; i < n_moving; i++) {
-        j = sys->moving[i];
+        j = sys->internal.moving[i];
         edmi__copy3(sys->link[j].anchor, work->lw[j].xs);
-        edmi__copy3(sys->anchor_next[j], work->lw[j].xt);
+        edmi__copy3(sys->internal.anchor_next[j], work->lw[j].xt);
     }
     edmi__clear_result(res);
     res->cause = cause;
@@ -5224,11 +5228,11 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     while (pos < (1 << k)) {
         int units = 1 << (k - level);
         edmi_real frac = (edmi_real)units / (edmi_real)(1L << k); /* a power of two */
-        sys->n_moving = n_moving;
+        sys->internal.n_moving = n_moving;
         for (i = 0; i < n_moving; i++) {
-            j = sys->moving[i];
+            j = sys->internal.moving[i];
             edmi__anchor_at(&work->lw[j], pos, k, sys->link[j].anchor);
-            edmi__anchor_at(&work->lw[j], pos + units, k, sys->anchor_next[j]);
+            edmi__anchor_at(&work->lw[j], pos + units, k, sys->internal.anchor_next[j]);
         }
 #if EDMI_MAX_WALLS > 0
         for (j = 0; j < sys->n_walls; j++) {
@@ -5236,7 +5240,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
             edmi__anchor_at(&work->ww[j], pos, k, x);
             sys->wall[j].c = x[0];
             edmi__anchor_at(&work->ww[j], pos + units, k, x);
-            sys->wall_next[j] = x[0];
+            sys->internal.wall_next[j] = x[0];
         }
 #endif
         st = edmi__prepare_links(sys, work);
@@ -5258,10 +5262,10 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         if (st == EDMI_OK && !edmi__sums_fit(res, &sub, wx, wa)) {
             /* the step's work or balance beyond the range: this substep falls back (the
              * frozen state does no work but a moved anchor's) or the call fails */
-            st = sys->params.fallback ? edmi__freeze(sys, work, &sub) : EDMI_ERR_RANGE;
+            st = sys->params.fallback ? edmi__freeze(sys, work, &sub) : EDMI_ERR_OVERFLOW;
             sub.stop = EDMI_STOP_FALLBACK;
             if (st == EDMI_OK && !edmi__sums_fit(res, &sub, wx, wa))
-                st = EDMI_ERR_RANGE;
+                st = EDMI_ERR_OVERFLOW;
         }
         if (st != EDMI_OK) {
             edmi__restore(sys, work, tank0, n_moving);
@@ -5318,9 +5322,9 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
         return st;
     /* the factors this system's last step kept here (work->kept_sys is read only where this
      * system wrote it); nothing a later call trusts unless this one stores the step */
-    work->kept = sys->kept_work == (const void *)work && work->kept_sys == (const void *)sys &&
-                 sys->kept_dt == dt && sys->kept_bodies == sys->n_bodies &&
-                 sys->kept_links == sys->n_links && edmi__kept_sane(sys, work);
+    work->kept = sys->internal.kept_work == (const void *)work && work->kept_sys == (const void *)sys &&
+                 sys->internal.kept_dt == dt && sys->internal.kept_bodies == sys->n_bodies &&
+                 sys->internal.kept_links == sys->n_links && edmi__kept_sane(sys, work);
     work->fresh = 0;
     work->kept_sys = 0;
     st = edmi__attempt(sys, work, dt, res);
@@ -5330,10 +5334,10 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
         res->substeps = 1;
         if (work->kept || work->fresh) {
             work->kept_sys = sys;
-            sys->kept_work = work;
-            sys->kept_dt = dt;
-            sys->kept_bodies = sys->n_bodies;
-            sys->kept_links = sys->n_links;
+            sys->internal.kept_work = work;
+            sys->internal.kept_dt = dt;
+            sys->internal.kept_bodies = sys->n_bodies;
+            sys->internal.kept_links = sys->n_links;
         }
     } else {
         if (!edmi__is_step_failure(st) ||
@@ -5409,7 +5413,7 @@ edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real
 #endif
         for (i = 0; i < 9; i++)
             if (!(edmi__abs(k[i]) <= lim))
-                return EDMI_ERR_RANGE;
+                return EDMI_ERR_OVERFLOW;
     }
     n = 3 * sys->n_bodies;
     work->kept_sys = 0; /* work->row is overwritten */
@@ -5557,29 +5561,29 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
         edmi_status st = edmi__wall_valid(sys->n_bodies, wl->a, wl->n, wl->c, &wl->pot);
         if (st != EDMI_OK)
             return st;
-        if (!edmi__finite(sys->wall_next[i]))
+        if (!edmi__finite(sys->internal.wall_next[i]))
             return EDMI_ERR_NONFINITE;
     }
 #endif
-    if ((!EDMI_WITH_PORTS && sys->n_forced != 0) || (!EDMI_WITH_FIELD && sys->has_field))
+    if ((!EDMI_WITH_PORTS && sys->internal.n_forced != 0) || (!EDMI_WITH_FIELD && sys->has_field))
         return EDMI_ERR_DISABLED;
     for (i = 0; i < EDMI__N_FORCED(sys); i++) {
-        int b = sys->forced[i];
+        int b = sys->internal.forced[i];
         if (b < 0 || b >= sys->n_bodies)
             return EDMI_ERR_INDEX;
         if (!edmi__finite3(sys->force[b]))
             return EDMI_ERR_NONFINITE;
     }
-    for (i = 0; i < sys->n_moving; i++) {
-        int j = sys->moving[i];
+    for (i = 0; i < sys->internal.n_moving; i++) {
+        int j = sys->internal.moving[i];
         if (j < 0 || j >= sys->n_links || sys->link[j].b != EDMI_ANCHOR)
             return EDMI_ERR_INDEX;
-        if (!edmi__finite3(sys->anchor_next[j]))
+        if (!edmi__finite3(sys->internal.anchor_next[j]))
             return EDMI_ERR_NONFINITE;
     }
     if (EDMI__HAS_FIELD(sys) && !edmi__finite3(sys->g))
         return EDMI_ERR_NONFINITE;
-    if (!edmi__finite(sys->t) || !edmi__finite(sys->t_carry) || !edmi__finite(sys->tank))
+    if (!edmi__finite(sys->t) || !edmi__finite(sys->internal.t_carry) || !edmi__finite(sys->tank))
         return EDMI_ERR_NONFINITE;
     return sys->tank >= EDMI__ZERO ? EDMI_OK : EDMI_ERR_PARAM;
 }
@@ -5591,9 +5595,9 @@ static int edmi__counts_valid(const edmi_system *sys)
     return sys->n_bodies >= 0 && sys->n_bodies <= EDMI_MAX_BODIES && sys->n_links >= 0 &&
            sys->n_links <= EDMI_MAX_LINKS && sys->n_dampers >= 0 &&
            sys->n_dampers <= EDMI_MAX_DAMPERS && EDMI__N_WALLS(sys) >= 0 &&
-           EDMI__N_WALLS(sys) <= EDMI_MAX_WALLS && sys->n_forced >= 0 &&
-           sys->n_forced <= sys->n_bodies && sys->n_moving >= 0 &&
-           sys->n_moving <= sys->n_links;
+           EDMI__N_WALLS(sys) <= EDMI_MAX_WALLS && sys->internal.n_forced >= 0 &&
+           sys->internal.n_forced <= sys->n_bodies && sys->internal.n_moving >= 0 &&
+           sys->internal.n_moving <= sys->n_links;
 }
 
 /* The system as a whole: what edmi_step and edmi_invariants_of check before they read it. */
@@ -5645,7 +5649,7 @@ static edmi_status edmi__validate(const edmi_system *sys, edmi_real dt)
     st = edmi__validate_system(sys);
     if (st != EDMI_OK)
         return st;
-    return edmi__finite(sys->t + (dt - sys->t_carry)) ? EDMI_OK : EDMI_ERR_DT;
+    return edmi__finite(sys->t + (dt - sys->internal.t_carry)) ? EDMI_OK : EDMI_ERR_DT;
 }
 
 edmi_params edmi_default_params(void)
@@ -5893,7 +5897,7 @@ edmi_status edmi_add_wall(edmi_system *sys, int a, const edmi_real n[3], edmi_re
     if (sys->n_walls >= EDMI_MAX_WALLS)
         return EDMI_ERR_CAPACITY;
     edmi__write_wall(&sys->wall[sys->n_walls], a, n, c, pot);
-    sys->wall_next[sys->n_walls] = c;
+    sys->internal.wall_next[sys->n_walls] = c;
     if (index)
         *index = sys->n_walls;
     sys->n_walls++;
@@ -5915,7 +5919,7 @@ edmi_status edmi_move_wall(edmi_system *sys, int w, edmi_real c_next)
         return EDMI_ERR_INDEX;
     if (!edmi__finite(c_next))
         return EDMI_ERR_NONFINITE;
-    sys->wall_next[w] = c_next;
+    sys->internal.wall_next[w] = c_next;
     return EDMI_OK;
 #else
     (void)w, (void)c_next;
@@ -5985,13 +5989,13 @@ edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3])
         return EDMI_ERR_INDEX;
     if (!edmi__finite3(x))
         return EDMI_ERR_NONFINITE;
-    for (i = 0; i < sys->n_moving && sys->moving[i] != link; i++)
+    for (i = 0; i < sys->internal.n_moving && sys->internal.moving[i] != link; i++)
         ;
-    if (i == sys->n_moving && i >= EDMI_MAX_LINKS) /* a list the caller overwrote */
+    if (i == sys->internal.n_moving && i >= EDMI_MAX_LINKS) /* a list the caller overwrote */
         return EDMI_ERR_CAPACITY;
-    if (i == sys->n_moving)
-        sys->moving[sys->n_moving++] = link;
-    edmi__copy3(x, sys->anchor_next[link]);
+    if (i == sys->internal.n_moving)
+        sys->internal.moving[sys->internal.n_moving++] = link;
+    edmi__copy3(x, sys->internal.anchor_next[link]);
     return EDMI_OK;
 }
 
@@ -6008,12 +6012,12 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
         return EDMI_ERR_INDEX;
     if (!edmi__finite3(f))
         return EDMI_ERR_NONFINITE;
-    for (i = 0; i < sys->n_forced && sys->forced[i] != a; i++)
+    for (i = 0; i < sys->internal.n_forced && sys->internal.forced[i] != a; i++)
         ;
-    if (i == sys->n_forced && i >= EDMI_MAX_BODIES) /* a list the caller overwrote */
+    if (i == sys->internal.n_forced && i >= EDMI_MAX_BODIES) /* a list the caller overwrote */
         return EDMI_ERR_CAPACITY;
-    if (i == sys->n_forced)
-        sys->forced[sys->n_forced++] = a;
+    if (i == sys->internal.n_forced)
+        sys->internal.forced[sys->internal.n_forced++] = a;
     edmi__copy3(f, sys->force[a]);
     return EDMI_OK;
 }
@@ -6198,7 +6202,7 @@ edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out)
     for (i = 0; i < 3; i++)
         iv.c[i] = mass > EDMI__ZERO ? (mq[i] - sys->t * iv.l[i]) / mass : EDMI__ZERO;
     if (!edmi__invariants_finite(&iv)) /* beyond the precision's range */
-        return EDMI_ERR_RANGE;
+        return EDMI_ERR_OVERFLOW;
     out->h = iv.h; /* field by field: a struct copy would need memcpy from the C library */
     out->k = iv.k;
     out->v = iv.v;
@@ -6232,6 +6236,9 @@ const char *edmi_status_name(edmi_status s)
     case EDMI_ERR_DISABLED: return "EDMI_ERR_DISABLED";
     case EDMI_ERR_UNINIT: return "EDMI_ERR_UNINIT";
     case EDMI_ERR_CORRUPT: return "EDMI_ERR_CORRUPT";
+    case EDMI_ERR_OVERFLOW: return "EDMI_ERR_OVERFLOW";
+    case EDMI_ERR_END_STATE: return "EDMI_ERR_END_STATE";
+    case EDMI_ERR_DOMAIN: return "EDMI_ERR_DOMAIN";
     default: return "EDMI_ERR_UNKNOWN";
     }
 }

@@ -296,17 +296,17 @@ typedef enum edmi_status {
     EDMI_ERR_COINCIDENT,     /*!< two linked bodies (or a body and its anchor) at distance 0 */
     EDMI_ERR_SINGULAR,       /*!< the Newton matrix is singular to working precision */
     EDMI_ERR_NO_CONVERGENCE, /*!< Newton did not meet tol_r/tol_a within l_max iterations */
-    EDMI_ERR_DIVERGED,       /*!< Newton left the potentials' domain (a distance 0, a
-                                  non-finite value, a user callback refusing) and halving the
-                                  correction did not bring it back within l_max iterations */
+    EDMI_ERR_DIVERGED,       /*!< Newton's iterates left the potentials' domain (a distance
+                                  0, a user callback refusing, a residual not finite) and
+                                  halving the correction did not bring them back within l_max
+                                  iterations */
     EDMI_ERR_PASSIVITY,      /*!< the guard could not certify H_n+1 - H_n <= work + what the
                                   energy tank holds (values beyond the range its double-word
                                   arithmetic covers, or an excess larger than the kinetic
                                   energy it may remove) */
-    EDMI_ERR_RANGE,          /*!< a result is beyond the precision's range although every
-                                  input is finite: a step's scale (|q| + dt |p| / m), its
-                                  residual, work or energy balance, an invariant, a
-                                  potential's derivative overflows (docs/api.md, "Limits") */
+    EDMI_ERR_RANGE,          /*!< an input refused: every value is finite, but the start
+                                  state's potentials (a link's or wall's V or V') are beyond
+                                  the precision's range there (docs/api.md, "Limits") */
     EDMI_ERR_DISABLED,       /*!< a scheme, potential, LG form or effect this build compiled
                                   out (an EDMI_WITH_* option set to 0, or a damper or wall
                                   where EDMI_MAX_DAMPERS or EDMI_MAX_WALLS is 0); checked after
@@ -315,9 +315,26 @@ typedef enum edmi_status {
     EDMI_ERR_UNINIT,         /*!< a builder (edmi_add_*) was given a system that edmi_init()
                                   or edmi_load_scene() did not set up: its params are not
                                   valid */
-    EDMI_ERR_CORRUPT         /*!< a count in sys (n_bodies, n_links, n_dampers, n_walls,
-                                  n_forced, n_moving) is out of range: the caller overwrote
+    EDMI_ERR_CORRUPT,        /*!< a count in sys (n_bodies, n_links, n_dampers, n_walls, or
+                                  one of sys->internal) is out of range: the caller overwrote
                                   it. Every call that reads sys checks the counts first */
+    EDMI_ERR_OVERFLOW,       /*!< a result is beyond the precision's range although every
+                                  input was accepted: in a step its scale (|q| + dt |p| / m),
+                                  residual, work, energy balance or a force (the step failed:
+                                  substeps and the fallback take it over); in a query the value
+                                  asked for (an invariant, a potential's derivative, a tangent
+                                  block) */
+    EDMI_ERR_END_STATE,      /*!< Newton solved the step, but its solution ends a link or wall
+                                  where the next step could not start: at length 0 with a
+                                  potential undefined there, outside a user potential's
+                                  domain, or where V or V' is beyond the range (MP and LG's
+                                  alternates never evaluate V at the end). A failed step:
+                                  substeps and the fallback take it over */
+    EDMI_ERR_DOMAIN          /*!< a distance outside a potential's domain: a user callback
+                                  refused it (at the start state a step is given, or in
+                                  edmi_pot_eval(), edmi_pot_divdiff()), or a trial state given
+                                  to edmi_residual() or edmi_tangent() puts a link (or its
+                                  mid-point) at length 0 or where a user callback refuses */
 } edmi_status;
 
 /** The five algorithmic forces of the paper (section 4.1). */
@@ -419,8 +436,10 @@ typedef struct edmi_pot_parts {
     edmi_real sm[5]; /*!< super-concave part V_- */
 } edmi_pot_parts;
 
-/** User potential: fill c, e, sp, sm of *out at distance r > 0 (v is set to c + e). Return 0 on success, non-zero
- *  if r is outside the potential's domain (the step then fails with EDMI_ERR_DIVERGED). */
+/** User potential: fill c, e, sp, sm of *out at distance r > 0 (v is set to c + e). Return 0
+ *  on success, non-zero if r is outside the potential's domain: a step's start there is
+ *  refused with EDMI_ERR_DOMAIN, a Newton iterate there is halved back (EDMI_ERR_DIVERGED if
+ *  it stays), a solution ending there fails with EDMI_ERR_END_STATE. */
 typedef int (*edmi_user_pot_fn)(void *ctx, edmi_real r, edmi_pot_parts *out);
 
 /** Optional user divided difference: *dd = [V(d1)-V(d0)]/(d1-d0) and
@@ -504,13 +523,20 @@ typedef struct edmi_mass_coupling {
     edmi_real m; /*!< m_ab [M] */
 } edmi_mass_coupling;
 
-/** A system: bodies, links, parameters and time. Caller-owned; initialise with edmi_init(). */
+/** A system: bodies, links, parameters and time. Caller-owned; initialise with edmi_init()
+ *  (or edmi_load_scene()), then add to it with edmi_add_*() and edmi_set_*(). Its fields come
+ *  in four groups:
+ *  - the state the caller may write between steps: body[] (edmi_body says how), t and params;
+ *    the next edmi_step() checks them;
+ *  - what the builders set, to read: the counts, link[], the effects, tank (change them only
+ *    through the calls named at each);
+ *  - the outputs of the last successful step: link_force, wall_force;
+ *  - internal: the library's own bookkeeping between calls. Treat it as opaque: edmi.c alone
+ *    reads and writes it, and its members may change in any release. */
 typedef struct edmi_system {
     int n_bodies;
     int n_links;
     edmi_real t;       /*!< time of the current state [T], advanced by edmi_step() */
-    edmi_real t_carry; /*!< compensated-summation remainder of t (C(t) depends on t: a plain
-                            t += dt drifts by ~n eps t after n steps) */
     edmi_params params;
     edmi_body body[EDMI_MAX_BODIES];
     edmi_link link[EDMI_MAX_LINKS];
@@ -521,16 +547,9 @@ typedef struct edmi_system {
     edmi_damper damper[EDMI_DAMPER_SLOTS_];
 #if EDMI_MAX_WALLS > 0
     int n_walls;
-    edmi_wall wall[EDMI_MAX_WALLS];
-    edmi_real wall_next[EDMI_MAX_WALLS]; /*!< each wall's offset c at the end of the next step
-                                              (edmi_move_wall(); c itself when it rests) [L] */
+    edmi_wall wall[EDMI_MAX_WALLS];      /*!< edmi_add_wall(); c moves with edmi_move_wall() */
 #endif
-    int n_forced;                        /*!< bodies with an external force port set */
-    int forced[EDMI_MAX_BODIES];         /*!< their indices */
-    edmi_real force[EDMI_MAX_BODIES][3]; /*!< port force per body (row forced[i] in use) [M L/T^2] */
-    int n_moving;                        /*!< anchor links moved by edmi_move_anchor() */
-    int moving[EDMI_MAX_LINKS];          /*!< their link indices */
-    edmi_real anchor_next[EDMI_MAX_LINKS][3]; /*!< where each reaches at the end of the next step [L] */
+    edmi_real force[EDMI_MAX_BODIES][3]; /*!< port force per body, edmi_set_force() [M L/T^2] */
 #if EDMI_MAX_MASS_GAP > 0
     /** The mass matrix's off-diagonal band (edmi_set_mass_coupling()): mass_off[a][k] is
      *  m_ab = m_ba for b = a - 1 - k [M]; 0 where bodies are not coupled. The diagonal is
@@ -554,12 +573,27 @@ typedef struct edmi_system {
      *  step, V'(g) n in the scheme's discrete form [M L/T^2] (the body felt its opposite). */
     edmi_real wall_force[EDMI_MAX_WALLS][3];
 #endif
-    /* Where the factors of the last step's Newton matrix are kept: the workspace, that step's
-     * dt and sizes (edmi_step). The next step with the same workspace and dt starts Newton
-     * from them. */
-    const void *kept_work;
-    edmi_real kept_dt;
-    int kept_bodies, kept_links;
+    /** Internal: opaque to the caller (see above). */
+    struct edmi_system_internal_ {
+        /* Where the factors of the last step's Newton matrix are kept: the workspace, that
+         * step's dt and sizes (edmi_step). The next step with the same workspace and dt
+         * starts Newton from them. */
+        const void *kept_work;
+        edmi_real kept_dt;
+        edmi_real t_carry; /* compensated-summation remainder of t (C(t) depends on t: a
+                              plain t += dt drifts by ~n eps t after n steps) */
+#if EDMI_MAX_WALLS > 0
+        edmi_real wall_next[EDMI_MAX_WALLS]; /* each wall's offset c at the end of the next
+                                                step (edmi_move_wall(); c when it rests) [L] */
+#endif
+        edmi_real anchor_next[EDMI_MAX_LINKS][3]; /* where each moving anchor reaches at the
+                                                     end of the next step [L] */
+        int kept_bodies, kept_links;
+        int n_forced;                /* bodies with a port force set (edmi_set_force()) */
+        int forced[EDMI_MAX_BODIES]; /* their indices */
+        int n_moving;                /* anchor links moved by edmi_move_anchor() */
+        int moving[EDMI_MAX_LINKS];  /* their link indices */
+    } internal;
 } edmi_system;
 
 
@@ -874,21 +908,22 @@ edmi_potential edmi_pot_tether(edmi_real k, edmi_real len);
  *  the fallback, res->substeps and res->fallbacks how many of each it stored. A firmware
  *  reads the status every tick and counts res->stop == EDMI_STOP_FALLBACK; res->cause is for
  *  diagnosis. A step that fails once its input is accepted (SINGULAR,
- *  NO_CONVERGENCE, DIVERGED, PASSIVITY, RANGE) is split into substeps with
+ *  NO_CONVERGENCE, DIVERGED, PASSIVITY, OVERFLOW, END_STATE) is split into substeps with
  *  params.substep_levels, and with params.fallback stores the fallback state where that still
  *  fails (res->cause says why, res->substeps and res->fallbacks what was stored).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
  *          EDMI_ERR_CORRUPT, EDMI_ERR_CAPACITY (the Newton matrix store outgrown),
  *          EDMI_ERR_INDEX, EDMI_ERR_PARAM,
- *          EDMI_ERR_COINCIDENT, EDMI_ERR_RANGE (the start state's potentials beyond the
- *          range): the input refused; without params.fallback also EDMI_ERR_SINGULAR,
- *          EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED (also: Newton's solution ends a link at
- *          length 0 or outside a user potential's domain, where the next step could not
- *          start), EDMI_ERR_PASSIVITY, EDMI_ERR_RANGE (a result beyond the range); with it,
- *          EDMI_ERR_DIVERGED or EDMI_ERR_RANGE only where a moved anchor ends on its body,
- *          outside its potential's domain or beyond the range, or a moved wall's energy at
- *          the kept positions is beyond the range. EDMI_ERR_DT also when t + dt
- *          overflows. */
+ *          EDMI_ERR_COINCIDENT, EDMI_ERR_RANGE, EDMI_ERR_DOMAIN (the start state's
+ *          potentials undefined or beyond the range): the input refused; without
+ *          params.fallback also the step's failures EDMI_ERR_SINGULAR,
+ *          EDMI_ERR_NO_CONVERGENCE, EDMI_ERR_DIVERGED, EDMI_ERR_PASSIVITY, EDMI_ERR_OVERFLOW,
+ *          EDMI_ERR_END_STATE; with it, only where a moved anchor or wall leaves no passive
+ *          state: EDMI_ERR_END_STATE (a moved anchor ends on its body or outside its
+ *          potential's domain), EDMI_ERR_OVERFLOW (a moved anchor's or wall's energy at the
+ *          kept positions beyond the range), or, with substeps, EDMI_ERR_COINCIDENT,
+ *          EDMI_ERR_RANGE, EDMI_ERR_DOMAIN at a substep's start the moving anchor refuses.
+ *          EDMI_ERR_DT also when t + dt overflows. */
 edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
                       edmi_step_result *res);
 
@@ -899,20 +934,21 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
 /** \brief H, K, V, J, L and C(t) of the current state. Checks the system as edmi_step
  *  does (a caller may have written its fields); *out is written only on success.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_CORRUPT, EDMI_ERR_CAPACITY, EDMI_ERR_PARAM,
- *          EDMI_ERR_MASS, EDMI_ERR_NONFINITE, EDMI_ERR_INDEX, EDMI_ERR_COINCIDENT (a potential undefined at
- *          d = 0), EDMI_ERR_DIVERGED (a user potential refused a distance), EDMI_ERR_RANGE */
+ *          EDMI_ERR_MASS, EDMI_ERR_NONFINITE, EDMI_ERR_INDEX, EDMI_ERR_COINCIDENT (a
+ *          potential undefined at d = 0), EDMI_ERR_DOMAIN (a user potential refused a
+ *          distance), EDMI_ERR_OVERFLOW (an invariant beyond the range) */
 edmi_status edmi_invariants_of(const edmi_system *sys, edmi_invariants *out);
 
 /** \brief Derivatives 0..4 of the split parts of a potential at r > 0.
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM (invalid potential or r <= 0),
- *          EDMI_ERR_DIVERGED (user callback refused r), EDMI_ERR_RANGE (a derivative is not
+ *          EDMI_ERR_DOMAIN (user callback refused r), EDMI_ERR_OVERFLOW (a derivative is not
  *          finite at r: beyond the range); *out is written only on success */
 edmi_status edmi_pot_eval(const edmi_potential *pot, edmi_real r, edmi_pot_parts *out);
 
 /** \brief Closed-form divided difference [V(d1)-V(d0)]/(d1-d0) and its d1-derivative,
  *  finite at d1 == d0 (then V'(d0) and V''(d0)/2).
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM (invalid, d <= 0, or a user potential
- *          without dd), EDMI_ERR_DIVERGED (user callback refused), EDMI_ERR_RANGE;
+ *          without dd), EDMI_ERR_DOMAIN (user callback refused), EDMI_ERR_OVERFLOW;
  *          the outputs are written only on success */
 edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real d1,
                              edmi_real *dd, edmi_real *dd_d1);
@@ -926,14 +962,17 @@ edmi_status edmi_pot_divdiff(const edmi_potential *pot, edmi_real d0, edmi_real 
  *  \param[out] lg_switches links on the LG alternate force (may be NULL)
  *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_DT, the system's errors as edmi_step() checks
  *          them (EDMI_ERR_CORRUPT, EDMI_ERR_CAPACITY ... EDMI_ERR_PARAM), EDMI_ERR_COINCIDENT,
- *          EDMI_ERR_DIVERGED; rq, rp and *lg_switches are written only on success */
+ *          EDMI_ERR_RANGE (the start state refused, as edmi_step() does), EDMI_ERR_DOMAIN
+ *          (the start or the trial puts a link or its mid-point at length 0, or where a user
+ *          callback refuses), EDMI_ERR_OVERFLOW (a residual beyond the range); rq, rp
+ *          and *lg_switches are written only on success */
 edmi_status edmi_residual(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                           const edmi_real (*q1)[3], const edmi_real (*p1)[3],
                           edmi_real (*rq)[3], edmi_real (*rp)[3], int *lg_switches);
 
 /** \brief Consistent tangent dR_p/dq1 at the trial end state, dense row-major
  *  (3 n_bodies)^2 into kmat (dR_q/dq1 = I and dR_p/dp1 = I, dR_q/dp1 = -dt/(2m) I are exact).
- *  \return as edmi_residual(), and EDMI_ERR_RANGE (a block beyond the range); kmat is
+ *  \return as edmi_residual(), and EDMI_ERR_OVERFLOW (a block beyond the range); kmat is
  *          written only on success */
 edmi_status edmi_tangent(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                          const edmi_real (*q1)[3], const edmi_real (*p1)[3], edmi_real *kmat);

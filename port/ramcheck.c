@@ -24,19 +24,22 @@
  *   edmi_damper    = up(4, R) + R                                link, c
  *   edmi_wall      = up(up(4, R) + 4R, RP) + edmi_potential       a, n[3], c, pot
  *   edmi_system, field by field:
- *     s = up(2*4, R) + 2R + edmi_params + N*7R                   n_bodies, n_links, t, t_carry, ...
+ *     s = up(2*4, R) + R + edmi_params + N*7R                    n_bodies, n_links, t, params,
+ *                                                                body[N]
  *     s = up(s, RP) + L*edmi_link + 4                            link[L], has_field
  *     s = up(s, R) + 3R + 4                                      g[3], n_dampers
- *     s = up(up(s, R) + D*edmi_damper + 4, RP)                   damper[D], n_walls
- *         + W*(edmi_wall + R) + 4 + 4N                           wall[W], wall_next[W],
- *                                                                n_forced, forced[N]
- *                                                                (W = max(EDMI_MAX_WALLS, 1))
- *     s = up(s, R) + 3R*N + 4 + 4L                               force[N][3], n_moving, moving[L]
- *     s = up(s, R) + 6R*L + N*G*R + R + 3R*W                     anchor_next[L][3], mass_off[N][G]
+ *     s = up(s, R) + D*edmi_damper [+ 4, up(, RP) + W*edmi_wall] damper[D], n_walls, wall[W]
+ *                                                                (W = EDMI_MAX_WALLS > 0 only)
+ *     s = up(s, R) + 3R*N + N*G*R + R + 3R*L + 3R*W              force[N][3], mass_off[N][G]
  *                                                                (G = EDMI_MAX_MASS_GAP, 0 by
  *                                                                default), tank, link_force[L][3],
  *                                                                wall_force[W][3]
- *     sizeof(edmi_system) = up(s, RP)
+ *     internal = up(up(P, R) + (2 + W + 3L)R + 4(4 + N + L), RP) kept_work, kept_dt, t_carry,
+ *                                                                wall_next[W], anchor_next[L][3],
+ *                                                                kept_bodies, kept_links,
+ *                                                                n_forced, forced[N], n_moving,
+ *                                                                moving[L]
+ *     sizeof(edmi_system) = up(s, RP) + internal
  *   edmi_link_ws   = up(56R + 12, R)    r0[3], 12 scalars, x1[3], f[3], gamma, rm[3], u[3],
  *                                       the balance's 6 reals and the 13 of its cached end,
  *                                       the substeps' fsum[3], xs[3], xt[3], bal_on, have1,
@@ -65,21 +68,24 @@
 #define TGT_LINK (TGT_UP(8u + 3u * TGT_R, TGT_RP) + TGT_POT)
 #define TGT_DAMPER (TGT_UP(4u, TGT_R) + TGT_R)
 #define TGT_WALL (TGT_UP(TGT_UP(4u, TGT_R) + 4u * TGT_R, TGT_RP) + TGT_POT)
-#define TGT_S1 (TGT_UP(8u, TGT_R) + 2u * TGT_R + TGT_PARAMS + TGT_N * 7u * TGT_R)
+#define TGT_S1 (TGT_UP(8u, TGT_R) + TGT_R + TGT_PARAMS + TGT_N * 7u * TGT_R)
 #define TGT_S2 (TGT_UP(TGT_S1, TGT_RP) + TGT_L * TGT_LINK + 4u)
 #define TGT_S3 (TGT_UP(TGT_S2, TGT_R) + 3u * TGT_R + 4u)
 #define TGT_S4                                                                              \
     (TGT_W > 0u ? TGT_UP(TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u, TGT_RP) +             \
-                      TGT_W * (TGT_WALL + TGT_R) + 4u + 4u * TGT_N                            \
-                : TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER + 4u + 4u * TGT_N)
-#define TGT_S5 (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + 4u + 4u * TGT_L)
+                      TGT_W * TGT_WALL                                                        \
+                : TGT_UP(TGT_S3, TGT_R) + TGT_D * TGT_DAMPER)
 #define TGT_G ((unsigned long)EDMI_MAX_MASS_GAP)
-#define TGT_S6                                                                              \
-    (TGT_UP(TGT_S5, TGT_R) + 6u * TGT_R * TGT_L + TGT_R * TGT_N * TGT_G + TGT_R +             \
-     3u * TGT_R * TGT_W)
-/* the record of kept factors: a pointer, dt, two ints */
-#define TGT_S7 (TGT_UP(TGT_UP(TGT_S6, TGT_P) + TGT_P, TGT_R) + TGT_R + 8u)
-#define TGT_SYSTEM TGT_UP(TGT_S7, TGT_RP)
+#define TGT_S5                                                                              \
+    (TGT_UP(TGT_S4, TGT_R) + 3u * TGT_R * TGT_N + TGT_R * TGT_N * TGT_G + TGT_R +             \
+     3u * TGT_R * TGT_L + 3u * TGT_R * TGT_W)
+/* the internal sub-struct: the kept factors' pointer, kept_dt, t_carry, wall_next[W],
+ * anchor_next[L][3], then the ints kept_bodies, kept_links, n_forced, forced[N], n_moving,
+ * moving[L] */
+#define TGT_INTERNAL                                                                        \
+    TGT_UP(TGT_UP(TGT_P, TGT_R) + (2u + TGT_W + 3u * TGT_L) * TGT_R + 4u * (4u + TGT_N + TGT_L), \
+           TGT_RP)
+#define TGT_SYSTEM (TGT_UP(TGT_S5, TGT_RP) + TGT_INTERNAL)
 #define TGT_M ((unsigned long)EDMI_MAX_MATRIX)
 #define TGT_LINK_WS TGT_UP(56u * TGT_R + 12u, TGT_R)
 #define TGT_WS0                                                                               \
@@ -90,35 +96,35 @@
 
 /* The closed forms of docs/sizing.md: RAM = sizeof(edmi_system) + sizeof(edmi_workspace) =
  * K + R M + b N + l L + d D + w W + R N G + pad (M = EDMI_MAX_MATRIX, by default 9 N^2):
- *   (W = EDMI_MAX_WALLS; with W > 0, K is 4 more in float and 8 in double: n_walls)
  *   float:  K = 128 with 4-byte pointers and 1-byte enums (arm-none-eabi), 136 with 4-byte
- *           enums, 148 with 8-byte pointers; b = 196, d = 44; l = 312 and w = 296 with 4-byte
- *           pointers, 332 and 316 with 8-byte ones; pad = 0 with 4-byte pointers, else 4 when
- *           N is odd (alignment of link[] after body[N]) + 4 when L + N G is odd (W = 0) or
- *           even (W > 0) (the system's tail, rounded up to the pointers' 8) + 4 when N + D + W
- *           is even (the walls after the dampers, and the workspace's pointer to whose
- *           factors it keeps)
- *   double: K = 196 with 1-byte enums, 204 with 4-byte ones; b = 364, d = 88;
+ *           enums, 148 with 8-byte pointers; with walls 4 more with 4-byte pointers (n_walls);
+ *           b = 196, d = 44; l = 312 and w = 296 with 4-byte pointers, 332 and 316 with 8-byte
+ *           ones; pad = 0 with 4-byte pointers; with 8-byte ones, without walls, 4 when
+ *           N + N G + L is odd (the public part's tail before the internal sub-struct's
+ *           pointer) + 4 when M + D is even (the workspace's pointer after its int tail);
+ *           with walls 4 when N is even (link[] after body[N]) + 4 when N + N G + L + W is
+ *           even + 4 when N + W is odd (the sub-struct's int tail) + 4 when M + D + W is even
+ *   double: K = 192 with 4-byte pointers and 1-byte enums, 200 with 4-byte enums, 204 with
+ *           8-byte pointers; with walls 8 more (n_walls and its alignment); b = 364, d = 88;
  *           l = 592 and w = 576 with 4-byte pointers, 600 and 584 with 8-byte ones; pad = 4
- *           when N is even (the int array forced[N] before force[N][3]) + with 8-byte
- *           pointers 8 when L is even (the int arrays moving[L] before anchor_next[L][3]) */
+ *           when N + L is odd (the sub-struct's int tail) + 4 when L is odd with 4-byte
+ *           pointers, even with 8-byte ones (the workspace's int tail before its pointer) */
 #define TGT_CLOSED_K                                                                        \
-    ((TGT_R == 4u ? (TGT_P == 4u ? 128u : 140u) : 196u) + (TGT_E == 4u ? 8u : 0u) +           \
-     (TGT_W > 0u ? (TGT_R == 4u ? 4u : 8u) : 0u))
+    ((TGT_R == 4u ? (TGT_P == 4u ? 128u : 140u) : (TGT_P == 4u ? 192u : 196u)) +              \
+     (TGT_E == 4u ? 8u : 0u) +                                                                \
+     (TGT_W > 0u ? (TGT_R == 8u ? 8u : TGT_P == 4u ? 4u : 0u) : 0u))
 #define TGT_CLOSED_B (TGT_R == 4u ? 196u : 364u)
 #define TGT_CLOSED_L (TGT_P == 4u ? (TGT_R == 4u ? 312u : 592u) : (TGT_R == 4u ? 332u : 600u))
 #define TGT_CLOSED_D (TGT_R == 4u ? 44u : 88u)
 #define TGT_CLOSED_W (TGT_R == 4u ? (TGT_P == 4u ? 296u : 316u) : (TGT_P == 4u ? 576u : 584u))
+#define TGT_ODD(x) ((x) % 2u == 1u ? 4u : 0u)
+#define TGT_EVEN(x) ((x) % 2u == 0u ? 4u : 0u)
 #define TGT_CLOSED_PAD                                                                      \
-    (TGT_R == 8u ? (TGT_N % 2u == 0u ? 4u : 0u) +                                             \
-                       (TGT_P == 8u && TGT_L % 2u == 0u ? 8u : 0u)                             \
-     : TGT_P == 8u && TGT_W == 0u                                                             \
-         ? (TGT_N % 2u == 1u ? 4u : 0u) + ((TGT_L + TGT_N * TGT_G) % 2u == 1u ? 4u : 0u) +    \
-               ((TGT_N + TGT_D) % 2u == 0u ? 4u : 0u)                                         \
-     : TGT_P == 8u ? (TGT_N % 2u == 1u ? 4u : 0u) +                                         \
-                         ((TGT_L + TGT_N * TGT_G) % 2u == 0u ? 4u : 0u) +                     \
-                         ((TGT_N + TGT_D + TGT_W) % 2u == 0u ? 4u : 0u)                       \
-                   : 0u)
+    (TGT_R == 8u ? TGT_ODD(TGT_N + TGT_L) + (TGT_P == 4u ? TGT_ODD(TGT_L) : TGT_EVEN(TGT_L))    \
+     : TGT_P == 4u ? 0u                                                                        \
+     : TGT_W == 0u ? TGT_ODD(TGT_N + TGT_N * TGT_G + TGT_L) + TGT_EVEN(TGT_M + TGT_D)         \
+                   : TGT_EVEN(TGT_N) + TGT_EVEN(TGT_N + TGT_N * TGT_G + TGT_L + TGT_W) +      \
+                         TGT_ODD(TGT_N + TGT_W) + TGT_EVEN(TGT_M + TGT_D + TGT_W))
 #define TGT_CLOSED                                                                          \
     (TGT_CLOSED_K + TGT_R * TGT_M + TGT_CLOSED_B * TGT_N + TGT_CLOSED_L * TGT_L +             \
      TGT_CLOSED_D * TGT_D + TGT_CLOSED_W * TGT_W + TGT_R * TGT_N * TGT_G + TGT_CLOSED_PAD)

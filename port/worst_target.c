@@ -243,7 +243,8 @@ static long wt_variant(const wt_state *s, int levels, int l_max, int fallback)
 static long wt_obj_step(const wt_state *s, int levels)
 {
     long n = wt_variant(s, levels, 20, 1);
-    return n >= 0 && (wt_st == EDMI_OK || wt_st == EDMI_ERR_DIVERGED || wt_st == EDMI_ERR_RANGE)
+    return n >= 0 && (wt_st == EDMI_OK || wt_st == EDMI_ERR_END_STATE ||
+                      wt_st == EDMI_ERR_OVERFLOW)
                ? n
                : -1;
 }
@@ -284,8 +285,8 @@ static long wt_obj_last(const wt_state *s, int levels)
     long t, f;
     int l, h;
     t = wt_variant(s, levels, 20, 0);
-    if (wt_st != EDMI_OK && wt_st != EDMI_ERR_PASSIVITY && wt_st != EDMI_ERR_RANGE &&
-        wt_st != EDMI_ERR_DIVERGED)
+    if (wt_st != EDMI_OK && wt_st != EDMI_ERR_PASSIVITY && wt_st != EDMI_ERR_OVERFLOW &&
+        wt_st != EDMI_ERR_DIVERGED && wt_st != EDMI_ERR_END_STATE)
         return -1;
     l = wt_res.iterations;
     h = wt_res.halvings;

@@ -198,7 +198,7 @@ int th_has_system(const edmi_system *sys)
 {
     int j;
     if (!th_has_params(&sys->params) || (sys->has_field && !EDMI_WITH_FIELD) ||
-        (sys->n_forced > 0 && !EDMI_WITH_PORTS))
+        (sys->internal.n_forced > 0 && !EDMI_WITH_PORTS))
         return 0;
     for (j = 0; j < sys->n_links; j++) {
         const edmi_potential *pot = &sys->link[j].pot;

@@ -1267,16 +1267,16 @@ static int tp_works_below(const edmi_system *s0, const edmi_system *s1,
 {
     tp_q wx = (tp_q)0.0, wa = (tp_q)0.0, mx = (tp_q)0.0, ma = (tp_q)0.0;
     int k, i;
-    for (k = 0; k < s0->n_forced; k++) {
-        int b = s0->forced[k];
+    for (k = 0; k < s0->internal.n_forced; k++) {
+        int b = s0->internal.forced[k];
         for (i = 0; i < 3; i++) {
             tp_q f = (tp_q)s0->force[b][i], dq = (tp_q)s1->body[b].q[i] - (tp_q)s0->body[b].q[i];
             wx += f * dq;
             mx += tp_absq(f) * (tp_absq((tp_q)s1->body[b].q[i]) + tp_absq((tp_q)s0->body[b].q[i]));
         }
     }
-    for (k = 0; k < s0->n_moving; k++) {
-        int j = s0->moving[k];
+    for (k = 0; k < s0->internal.n_moving; k++) {
+        int j = s0->internal.moving[k];
         for (i = 0; i < 3; i++) {
             tp_q f = (tp_q)s1->link_force[j][i];
             tp_q dx = (tp_q)s1->link[j].anchor[i] - (tp_q)s0->link[j].anchor[i];
@@ -1293,8 +1293,8 @@ int tp_port_work_below(const edmi_system *s0, const edmi_system *s1, const edmi_
 {
     tp_q wx = (tp_q)0.0;
     int k, i;
-    for (k = 0; k < s0->n_forced; k++) {
-        int b = s0->forced[k];
+    for (k = 0; k < s0->internal.n_forced; k++) {
+        int b = s0->internal.forced[k];
         for (i = 0; i < 3; i++) /* each product exact in tp_q, the sum of few terms too */
             wx += (tp_q)s0->force[b][i] * ((tp_q)s1->body[b].q[i] - (tp_q)s0->body[b].q[i]);
     }
@@ -1933,8 +1933,8 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
                             (tp_n3l(s0->body[j].q) + tp_n3l(tp_q1[j]));
         }
 #endif
-    for (i = 0; i < s0->n_forced; i++)
-        tp_pm[s0->forced[i]] += ldt * tp_n3l(s0->force[s0->forced[i]]);
+    for (i = 0; i < s0->internal.n_forced; i++)
+        tp_pm[s0->internal.forced[i]] += ldt * tp_n3l(s0->force[s0->internal.forced[i]]);
     for (j = 0; j < s0->n_links; j++) { /* the impulse, and each link's tangent alone */
         const edmi_link *lk = &s0->link[j];
         const edmi_real *xb1;
@@ -1950,13 +1950,13 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
 #if EDMI_MAX_WALLS > 0
         tp_one.n_walls = 0;
 #endif
-        tp_one.n_moving = 0;
-        for (i = 0; i < s0->n_moving; i++)
-            if (s0->moving[i] == j) {
-                tp_one.n_moving = 1;
-                tp_one.moving[0] = 0;
+        tp_one.internal.n_moving = 0;
+        for (i = 0; i < s0->internal.n_moving; i++)
+            if (s0->internal.moving[i] == j) {
+                tp_one.internal.n_moving = 1;
+                tp_one.internal.moving[0] = 0;
                 for (a = 0; a < 3; a++)
-                    tp_one.anchor_next[0][a] = s0->anchor_next[j][a];
+                    tp_one.internal.anchor_next[0][a] = s0->internal.anchor_next[j][a];
             }
         if (!tp_kmax(work, dt, n, &k))
             continue;
@@ -1983,7 +1983,7 @@ long double tp_solved(const edmi_system *s0, const edmi_system *s, edmi_real dt,
         tp_one.n_walls = 1;
         tp_one.n_links = 0;
         tp_one.n_dampers = 0;
-        tp_one.n_moving = 0;
+        tp_one.internal.n_moving = 0;
         if (!tp_kmax(work, dt, n, &k))
             continue;
         if (wl->pot.kind == EDMI_POT_HARMONIC && ldt * (long double)wl->pot.a > k)

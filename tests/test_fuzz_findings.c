@@ -93,7 +93,7 @@ static void tf_scales(void)
     CHECK(tf_free_body(EDMI_SCHEME_PM, EDMI_R(1.0), EDMI_REAL_MAX, EDMI_R(1.0)));
     tf_sys.body[0].q[1] = EDMI_REAL_MAX; /* |q| = sqrt(2) REAL_MAX */
     memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
-    CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.5), &res), EDMI_ERR_RANGE);
+    CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(0.5), &res), EDMI_ERR_OVERFLOW);
     CHECK(TF_UNCHANGED());
 }
 
@@ -132,7 +132,7 @@ static void tf_outputs(void)
     memcpy(rp0, rp, sizeof rp);
     CHECK_STATUS(edmi_residual(&tf_sys, &tf_work, EDMI_R(0.01), (const edmi_real (*)[3])q1,
                                (const edmi_real (*)[3])p1, rq, rp, &sw),
-                 EDMI_ERR_DIVERGED);
+                 EDMI_ERR_DOMAIN);
     CHECK(memcmp(rq, rq0, sizeof rq) == 0);
     CHECK(memcmp(rp, rp0, sizeof rp) == 0);
     CHECK(sw == -3);
@@ -186,7 +186,7 @@ static void tf_mp_end(void)
               edmi_add_anchor(&tf_sys, 0, tf_zero3, &flat, 0) == EDMI_OK);
         memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
         if (k == 0) {
-            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(1.0), &res), EDMI_ERR_DIVERGED);
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(1.0), &res), EDMI_ERR_END_STATE);
             CHECK(TF_UNCHANGED());
         } else { /* the fallback keeps the positions: a state the next call accepts */
             CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(1.0), &res), EDMI_OK);
@@ -201,7 +201,7 @@ static void tf_mp_end(void)
               edmi_add_anchor(&tf_sys, 0, tf_zero3, &flat, 0) == EDMI_OK);
         memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
         if (k == 0) {
-            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(2.75), &res), EDMI_ERR_DIVERGED);
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(2.75), &res), EDMI_ERR_END_STATE);
             CHECK(TF_UNCHANGED());
         } else {
             CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(2.75), &res), EDMI_OK);
@@ -226,11 +226,11 @@ static void tf_counts(void)
             CHECK(tf_free_body(EDMI_SCHEME_PM, EDMI_R(1.0), EDMI_R(1.0), EDMI_R(0.0)) &&
                   edmi_add_anchor(&tf_sys, 0, tf_zero3, &h, 0) == EDMI_OK);
             if (which == 0)
-                tf_sys.n_forced = bad[k];
+                tf_sys.internal.n_forced = bad[k];
             else if (which == 1)
                 tf_sys.n_bodies = bad[k];
             else
-                tf_sys.n_moving = bad[k] < 0 ? bad[k] : EDMI_MAX_LINKS + 1;
+                tf_sys.internal.n_moving = bad[k] < 0 ? bad[k] : EDMI_MAX_LINKS + 1;
             memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
             if (!th_skip(EDMI_WITH_PORTS, "EDMI_WITH_PORTS"))
                 CHECK_STATUS(edmi_set_force(&tf_sys, 0, f), EDMI_ERR_CORRUPT);
@@ -363,8 +363,8 @@ static void tf_range(void)
 #else
     st = edmi_pot_eval(&lj, EDMI_R(1e-4), &pp);
 #endif
-    CHECK_STATUS(st, EDMI_ERR_RANGE);
-    CHECK_STATUS(edmi_pot_divdiff(&lj, EDMI_R(1e-30), EDMI_R(1e-30), &dd, &dd1), EDMI_ERR_RANGE);
+    CHECK_STATUS(st, EDMI_ERR_OVERFLOW);
+    CHECK_STATUS(edmi_pot_divdiff(&lj, EDMI_R(1e-30), EDMI_R(1e-30), &dd, &dd1), EDMI_ERR_OVERFLOW);
     CHECK(dd == EDMI_R(-1.0) && dd1 == EDMI_R(-1.0));
 }
 
@@ -465,7 +465,7 @@ static void tf_substep_fallback(void)
         memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
         CHECK_STATUS(edmi_step(&tf_sys, &tf_work, (edmi_real)0x1.bef82ep-4, &res), EDMI_OK);
         CHECK(tp_delta_h(&tf_snap, &tf_sys, &res, &d) && !d.broken);
-        CHECK(tf_sys.link[0].anchor[2] == x1[2] && tf_sys.n_moving == 0);
+        CHECK(tf_sys.link[0].anchor[2] == x1[2] && tf_sys.internal.n_moving == 0);
         CHECK(tf_sys.tank >= EDMI_R(0.0) && tf_sys.tank <= res.tank_cap);
         if (res.stop == EDMI_STOP_FALLBACK) /* float: every substep falls back */
             CHECK(res.fallbacks >= 1 && res.cause != EDMI_OK);

@@ -203,9 +203,10 @@ static void ti_status_names(void)
         "EDMI_ERR_INDEX",    "EDMI_ERR_PARAM",         "EDMI_ERR_COINCIDENT",
         "EDMI_ERR_SINGULAR", "EDMI_ERR_NO_CONVERGENCE", "EDMI_ERR_DIVERGED",
         "EDMI_ERR_PASSIVITY", "EDMI_ERR_RANGE",   "EDMI_ERR_DISABLED",
-        "EDMI_ERR_UNINIT",   "EDMI_ERR_CORRUPT"};
+        "EDMI_ERR_UNINIT",   "EDMI_ERR_CORRUPT",       "EDMI_ERR_OVERFLOW",
+        "EDMI_ERR_END_STATE", "EDMI_ERR_DOMAIN"};
     int n = (int)(sizeof want / sizeof want[0]), i, j;
-    CHECK(n == (int)EDMI_ERR_CORRUPT + 1);
+    CHECK(n == (int)EDMI_ERR_DOMAIN + 1);
     for (i = 0; i < n; i++) {
         const char *s = edmi_status_name((edmi_status)i);
         if (!CHECK(s != 0))
@@ -738,8 +739,8 @@ static void ti_diverged(void)
         int f0 = th_failed();
         if (th_skip(ti_upot_in(&prm), "diverged: scheme, user potential"))
             continue;
-        if (CHECK(ti_build_one(EDMI_R(1.0), q, p, &pn, &prm)))
-            TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(0.1), &ti_res), EDMI_ERR_DIVERGED);
+        if (CHECK(ti_build_one(EDMI_R(1.0), q, p, &pn, &prm))) /* refused at the start */
+            TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(0.1), &ti_res), EDMI_ERR_DOMAIN);
         if (CHECK(ti_build_one(EDMI_R(1.0), q, p, &pr, &prm))) {
             TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(0.1), &ti_res), EDMI_ERR_DIVERGED);
             /* a small enough step stays in the domain (d_n+1 ~ 2 + 10 dt = 2.01) */
@@ -926,8 +927,8 @@ static void ti_disabled(void)
         TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(1e-3), &ti_res), EDMI_ERR_DISABLED);
     }
     if (!EDMI_WITH_PORTS && CHECK(ti_base(in))) {
-        ti_sys.n_forced = 1;
-        ti_sys.forced[0] = 0;
+        ti_sys.internal.n_forced = 1;
+        ti_sys.internal.forced[0] = 0;
         memcpy(ti_sys.force[0], f, sizeof f);
         TI_EXPECT(edmi_step(&ti_sys, &ti_work, EDMI_R(1e-3), &ti_res), EDMI_ERR_DISABLED);
     }

@@ -569,15 +569,15 @@ static void tp_check_errors(void)
     }
 
     /* A user potential without a divided-difference callback: divdiff is a parameter error
-     * (eval still works); a callback that refuses: EDMI_ERR_DIVERGED. */
+     * (eval still works); a callback that refuses: EDMI_ERR_DOMAIN. */
     if (th_skip(th_has_pot(EDMI_POT_USER), "user potential statuses"))
         return;
     CHECK_STATUS(edmi_pot_eval(&user_nodd, EDMI_R(1.0), &p), EDMI_OK);
     CHECK_STATUS(edmi_pot_divdiff(&user_nodd, EDMI_R(1.0), EDMI_R(1.5), &dd, &ddd),
                  EDMI_ERR_PARAM);
-    CHECK_STATUS(edmi_pot_eval(&user_fail, EDMI_R(1.0), &p), EDMI_ERR_DIVERGED);
+    CHECK_STATUS(edmi_pot_eval(&user_fail, EDMI_R(1.0), &p), EDMI_ERR_DOMAIN);
     CHECK_STATUS(edmi_pot_divdiff(&user_fail, EDMI_R(1.0), EDMI_R(1.5), &dd, &ddd),
-                 EDMI_ERR_DIVERGED);
+                 EDMI_ERR_DOMAIN);
 
     /* The user potential's v is c + e (header). */
     if (CHECK_STATUS(edmi_pot_eval(&user_nodd, EDMI_R(1.25), &p), EDMI_OK))

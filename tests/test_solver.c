@@ -222,8 +222,8 @@ static void solver_kept(void)
         if (!solver_kept_step(&worst, &its_kept, &its_fresh))
             return;
     /* the record says where the factors are: the system's own workspace, not the copy's */
-    CHECK(sys_a.kept_work == (const void *)&work_solver);
-    CHECK(sys_kept_copy.kept_work == (const void *)&work_fresh);
+    CHECK(sys_a.internal.kept_work == (const void *)&work_solver);
+    CHECK(sys_kept_copy.internal.kept_work == (const void *)&work_fresh);
     th_note_real("kept factors: largest scaled difference from a fresh solve, 400 steps", worst);
     th_note_int("kept factors: Newton corrections in 400 steps (kept)", its_kept);
     th_note_int("kept factors: Newton corrections in 400 steps (fresh)", its_fresh);

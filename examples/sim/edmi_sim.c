@@ -814,8 +814,8 @@ static void warn_stiff(const char *scene, const sim_stiff *sf)
             SIM_STIFF / sf->omega, SIM_STIFF);
 }
 
-/* Why the scene's initial state was refused (EDMI_ERR_RANGE and the like from
- * edmi_load_scene or edmi_invariants_of): the first body or link whose own energy or momentum
+/* Why the scene's initial state was refused (EDMI_ERR_RANGE, EDMI_ERR_OVERFLOW and the like
+ * from edmi_load_scene or edmi_invariants_of): the first body or link whose own energy or momentum
  * is beyond EDMI_REAL's range, with the line that declared it; else the sum. */
 static void explain_state(const char *scene, const char *what, edmi_status s)
 {
@@ -856,7 +856,7 @@ static void explain_state(const char *scene, const char *what, edmi_status s)
         }
     }
     fprintf(stderr, "edmi-sim: %s: %s: %s%s\n", scene, what, edmi_status_name(s),
-            s == EDMI_ERR_RANGE ? " (every body's and link's own terms are in range: their sum "
+            s == EDMI_ERR_OVERFLOW ? " (every body's and link's own terms are in range: their sum "
                                   "is not)" : "");
 }
 

@@ -302,7 +302,7 @@ static int fz_finite_n(const edmi_real *x, int n)
 
 static void fz_status(edmi_status st, const char *call)
 {
-    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_CORRUPT)
+    if ((int)st < (int)EDMI_OK || (int)st > (int)EDMI_ERR_DOMAIN)
         fz_fail("status out of range", call, st);
 }
 
@@ -336,23 +336,23 @@ static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_rea
     for (a = 0; a < s1->n_bodies; a++)
         if (!fz_finite_n(s1->body[a].q, 3) || !fz_finite_n(s1->body[a].p, 3))
             fz_fail("non-finite state", "edmi_step", EDMI_OK);
-    if (!fz_finite(s1->t) || !fz_finite(s1->t_carry))
+    if (!fz_finite(s1->t) || !fz_finite(s1->internal.t_carry))
         fz_fail("clock not finite", "edmi_step", EDMI_OK);
     { /* compensated: t - t_carry advances by dt, up to the roundings of Kahan's sum, a few
        * eps of |t| and |t_carry| (t itself may step back by one unit when dt is below its
        * spacing and the carry above dt; a caller may have written t_carry) */
-        long double t0 = (long double)s0->t - (long double)s0->t_carry;
-        long double t1 = (long double)s1->t - (long double)s1->t_carry;
+        long double t0 = (long double)s0->t - (long double)s0->internal.t_carry;
+        long double t1 = (long double)s1->t - (long double)s1->internal.t_carry;
         long double e = t1 - t0 - (long double)dt;
-        long double mag = fabsl((long double)s0->t) + fabsl((long double)s0->t_carry) +
-                          fabsl((long double)s1->t) + fabsl((long double)s1->t_carry) +
+        long double mag = fabsl((long double)s0->t) + fabsl((long double)s0->internal.t_carry) +
+                          fabsl((long double)s1->t) + fabsl((long double)s1->internal.t_carry) +
                           (long double)dt;
         if (e < 0)
             e = -e;
         if (!(e <= 4.0L * (long double)EDMI_EPS * mag)) {
             fprintf(stderr, "t %.21Lg carry %.21Lg -> t %.21Lg carry %.21Lg, dt %.21Lg\n",
-                    (long double)s0->t, (long double)s0->t_carry, (long double)s1->t,
-                    (long double)s1->t_carry, (long double)dt);
+                    (long double)s0->t, (long double)s0->internal.t_carry, (long double)s1->t,
+                    (long double)s1->internal.t_carry, (long double)dt);
             fz_fail("clock not advanced by dt", "edmi_step", EDMI_OK);
         }
     }
@@ -430,14 +430,14 @@ static void fz_print_sys(const edmi_system *s, edmi_real dt)
                 (double)s->link[j].anchor[1], (double)s->link[j].anchor[2]);
     for (j = 0; j < s->n_dampers; j++)
         fprintf(stderr, "  damper link %d c=%.9g\n", s->damper[j].link, (double)s->damper[j].c);
-    for (j = 0; j < s->n_forced; j++)
-        fprintf(stderr, "  force on %d (%.9g %.9g %.9g)\n", s->forced[j],
-                (double)s->force[s->forced[j]][0], (double)s->force[s->forced[j]][1],
-                (double)s->force[s->forced[j]][2]);
-    for (j = 0; j < s->n_moving; j++)
-        fprintf(stderr, "  anchor %d moves to (%.9g %.9g %.9g)\n", s->moving[j],
-                (double)s->anchor_next[s->moving[j]][0], (double)s->anchor_next[s->moving[j]][1],
-                (double)s->anchor_next[s->moving[j]][2]);
+    for (j = 0; j < s->internal.n_forced; j++)
+        fprintf(stderr, "  force on %d (%.9g %.9g %.9g)\n", s->internal.forced[j],
+                (double)s->force[s->internal.forced[j]][0], (double)s->force[s->internal.forced[j]][1],
+                (double)s->force[s->internal.forced[j]][2]);
+    for (j = 0; j < s->internal.n_moving; j++)
+        fprintf(stderr, "  anchor %d moves to (%.9g %.9g %.9g)\n", s->internal.moving[j],
+                (double)s->internal.anchor_next[s->internal.moving[j]][0], (double)s->internal.anchor_next[s->internal.moving[j]][1],
+                (double)s->internal.anchor_next[s->internal.moving[j]][2]);
     if (s->has_field)
         fprintf(stderr, "  field (%.9g %.9g %.9g)\n", (double)s->g[0], (double)s->g[1],
                 (double)s->g[2]);
@@ -585,7 +585,7 @@ static int fz_walls_moved(const edmi_system *s)
 #if EDMI_MAX_WALLS > 0
     int j;
     for (j = 0; j < s->n_walls && j < EDMI_MAX_WALLS; j++)
-        if (s->wall_next[j] != s->wall[j].c)
+        if (s->internal.wall_next[j] != s->wall[j].c)
             return 1;
 #else
     (void)s;
@@ -679,12 +679,14 @@ static void fz_op_step(fz_in *in, int *steps)
     fz_unchanged(st, "edmi_step", &fz_sys, &fz_before, 0, 0, 0);
     if (fz_before.params.fallback && fz_before.params.l_max >= 1 &&
         (st == EDMI_ERR_SINGULAR || st == EDMI_ERR_NO_CONVERGENCE || st == EDMI_ERR_PASSIVITY ||
-         st == EDMI_ERR_DIVERGED || st == EDMI_ERR_RANGE)) {
+         st == EDMI_ERR_DIVERGED || st == EDMI_ERR_OVERFLOW || st == EDMI_ERR_END_STATE ||
+         st == EDMI_ERR_RANGE || st == EDMI_ERR_DOMAIN)) {
         /* the fallback's contract: only a start state its potentials refuse (the input) or a
          * moved anchor or wall with no passive state may fail */
         edmi_invariants inv;
-        if (!((st == EDMI_ERR_DIVERGED || st == EDMI_ERR_RANGE) &&
-              (fz_before.n_moving > 0 || fz_walls_moved(&fz_before) ||
+        if (!((st == EDMI_ERR_END_STATE || st == EDMI_ERR_OVERFLOW || st == EDMI_ERR_RANGE ||
+               st == EDMI_ERR_DOMAIN) &&
+              (fz_before.internal.n_moving > 0 || fz_walls_moved(&fz_before) ||
                edmi_invariants_of(&fz_before, &inv) != EDMI_OK ||
                !fz_start_evaluable(&fz_before))))
             fz_fail("fallback set but the step failed", "edmi_step", st);
@@ -946,9 +948,9 @@ static void fz_op_poke(fz_in *in)
         return;
     }
     switch (which) {
-    case 4: fz_sys.n_forced = v; break;
+    case 4: fz_sys.internal.n_forced = v; break;
     case 5: fz_sys.n_bodies = v; break;
-    case 6: fz_sys.n_moving = v; break;
+    case 6: fz_sys.internal.n_moving = v; break;
     case 7: fz_sys.n_dampers = v; break;
     default: { /* a field written directly: a value, not a count */
         int j = fz_index(in, EDMI_MAX_LINKS), k = (int)(fz_u8(in) % 3u);
@@ -958,7 +960,7 @@ static void fz_op_poke(fz_in *in)
         switch (which) {
         case 8: fz_sys.damper[j].c = x; break;
         case 9: fz_sys.force[j % EDMI_MAX_BODIES][k] = x; break;
-        case 10: fz_sys.anchor_next[j][k] = x; break;
+        case 10: fz_sys.internal.anchor_next[j][k] = x; break;
         case 11: fz_sys.g[k] = x; break;
         case 12: fz_sys.link[j].pot.a = x; break;
         case 13: fz_sys.link[j].anchor[k] = x; break;
@@ -966,7 +968,7 @@ static void fz_op_poke(fz_in *in)
             if (k == 2)
                 fz_sys.tank = x;
             else
-                fz_sys.t_carry = x;
+                fz_sys.internal.t_carry = x;
             break;
         default: fz_sys.damper[j].link = fz_index(in, EDMI_MAX_LINKS + 1); break;
         }
