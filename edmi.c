@@ -12,15 +12,14 @@
 
 /* edmi validates its input with NaN and infinity tests (x != x, |x| <= EDMI_REAL_MAX) and the
  * passivity guard's double-word arithmetic needs every operation evaluated as written:
- * -ffast-math (or -Ofast, -ffinite-math-only) would silently drop both (measured: 105 failed
- * tests, every NaN/Inf check). */
+ * -ffast-math (or -Ofast, -ffinite-math-only) would silently drop both (docs/porting.md). */
 #if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__)
 #error "edmi.c needs IEEE semantics: compile it without -ffast-math, -Ofast or -ffinite-math-only"
 #endif
 /* Every a * b + c is rounded twice, as written: a fused multiply-add would change results (the
  * host simulator and a target would disagree) and break the guard's exact products. GCC fuses
- * by default in its GNU modes (-std=gnu99, what Arduino, ESP-IDF and CMake's default pass:
- * measured 142 FMAs in the M4F object) and ignores the standard pragma; Clang fuses within
+ * by default in its GNU modes (-std=gnu99, what Arduino, ESP-IDF and CMake's default pass)
+ * and ignores the standard pragma; Clang fuses within
  * expressions by default. So edmi.c turns contraction off for itself, whatever the build
  * passes; -std=c99 builds (GCC contracts nothing there) are unchanged. */
 #if defined(__clang__)
@@ -78,8 +77,8 @@
 /* The schemes and potential kinds this build carries (edmi.h, EDMI_WITH_*): bit k is scheme
  * or kind k. EDMI__HAS_SCHEME and EDMI__HAS_POT of a constant are constants, so a test such as
  * EDMI__HAS_SCHEME(EDMI_SCHEME_LG) && p->scheme == EDMI_SCHEME_LG drops the code behind it
- * when LG is out; with every one in (all five schemes, all eight kinds) they are 1 for any value, so the
- * validators test nothing more than the default build needs.
+ * when LG is out; with every one in (all five schemes, all eight kinds) they are 1 for any
+ * value, so the validators test nothing more than the default build needs.
  * The decaying Lambdas are needed by their schemes and by LG's alternates. */
 #define EDMI__SCHEMES                                                                      \
     ((unsigned)EDMI_WITH_MP << EDMI_SCHEME_MP | (unsigned)EDMI_WITH_LG << EDMI_SCHEME_LG |      \
@@ -96,7 +95,8 @@
      (unsigned)EDMI_WITH_QUARTIC << EDMI_POT_QUARTIC |                                     \
      (unsigned)EDMI_WITH_NEO_HOOKE << EDMI_POT_NEO_HOOKE | (unsigned)EDMI_WITH_LJ << EDMI_POT_LJ | \
      (unsigned)EDMI_WITH_INVERSE << EDMI_POT_INVERSE | (unsigned)EDMI_WITH_USER << EDMI_POT_USER | \
-     (unsigned)EDMI_WITH_CONTACT << EDMI_POT_CONTACT | (unsigned)EDMI_WITH_CONTACT << EDMI_POT_TETHER)
+     (unsigned)EDMI_WITH_CONTACT << EDMI_POT_CONTACT |                                     \
+     (unsigned)EDMI_WITH_CONTACT << EDMI_POT_TETHER)
 #define EDMI__HAS_POT(k) (EDMI__POTS == 255u || (EDMI__POTS >> (k) & 1u) != 0)
 /* The field and the force ports in use: the constant 0 when compiled out (as dampers). */
 #define EDMI__HAS_FIELD(s) (EDMI_WITH_FIELD && (s)->has_field)
@@ -117,10 +117,10 @@
 #endif
 
 /* The smallest helpers the energy balance and the guard call hundreds of times per step are
- * inlined where edmi_real arithmetic is hardware: on the Cortex-M4F at -Os (QEMU, float PM)
- * 11 % fewer instructions per step, for 2.4 kB of flash (docs/porting.md, EDMI_NO_INLINE).
- * Where every operation is a soft-float call (Cortex-M0+, rv32imac) inlining only copies
- * calls (+6 to +9 kB), so the compiler decides there, as with -DEDMI_NO_INLINE. */
+ * inlined where edmi_real arithmetic is hardware, where the instructions they save per step
+ * outweigh their flash (docs/porting.md, EDMI_NO_INLINE, gives both). Where every operation
+ * is a soft-float call (Cortex-M0+, rv32imac) inlining only copies calls, so the compiler
+ * decides there, as with -DEDMI_NO_INLINE. */
 #if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
 #define EDMI__ARM_FP_BIT 8 /* __ARM_FP: bit 3 double precision, bit 2 single */
 #define EDMI__RISCV_FLEN 64
@@ -505,8 +505,8 @@ static edmi__dw edmi__dw_work(const edmi_real f[3], const edmi_real a[3], const 
  * quantity is multiplied or divided by afterwards (1/2m for a kinetic energy, m for the
  * field's work, a potential's coefficient and |dV/ds| <= 8 M / s for the squared length s
  * it is evaluated from). Tiny masses, lengths or momenta thus make the bound large and the
- * step uncertifiable (EDMI_ERR_PASSIVITY), never wrongly certified (measured: a body of
- * mass 2e-28 with p ~ 1e-31 in float, whose p^2 underflows to 0). */
+ * step uncertifiable (EDMI_ERR_PASSIVITY), never wrongly certified (a tiny body whose p^2
+ * underflows to 0: docs/testing.md lists the case). */
 #define EDMI__DW_ERR (EDMI_R(256.0) * EDMI_EPS * EDMI_EPS)
 #define EDMI__DW_TINY (EDMI_R(1024.0) * EDMI__REAL_MIN)
 /* The double-word length's error, relative: 32 u^2 = 8 eps^2 (18 u^2 of the squared length and
@@ -747,8 +747,8 @@ static edmi_status edmi__pot_check(const edmi_potential *pot)
 
 /* Evaluate a validated potential at r > 0: V in o->v and, with `split`, its convex/concave
  * and super-convex/super-concave parts (a user potential's always). Where only V is read (the
- * mid-point's and PM's mean lengths) the parts are not copied: 2-6 % of a Cortex-M4F step for
- * MP and PM. EDMI_ERR_DOMAIN if a user callback refuses r. */
+ * mid-point's and PM's mean lengths) the parts are not copied. EDMI_ERR_DOMAIN if a user
+ * callback refuses r. */
 static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_pot_parts *o,
                                    int split)
 {
@@ -810,8 +810,8 @@ static edmi_status edmi__pot_parts(const edmi_potential *pot, edmi_real r, edmi_
  * error of d^ through V', harmonic 8 u M, quartic 43 u M, neo-Hooke 17 u M, Lennard-Jones
  * 86 u M (its (s/d)^6 by five products of a quotient), inverse 6 u M; and through V''
  * (16 u^2 d^2 |V''| / 2), which matters where V'(d^) vanishes while V'(d) does not: a spring
- * whose rounded length is its rest length exactly (measured: a float body 5e-13 off its rest
- * length of 1, where d^ = 1). |V_c| + |V_e| carries V's own size where it is the small
+ * whose rounded length is its rest length exactly (a body a few units in the last place off
+ * it: docs/testing.md lists the case). |V_c| + |V_e| carries V's own size where it is the small
  * difference of two large terms (Lennard-Jones near its minimum, the quartic below its rest
  * length). */
 static edmi_real edmi__pot_mag(const edmi_potential *pot, const edmi_pot_parts *pp, edmi_real d)
@@ -947,8 +947,8 @@ static edmi_status edmi__divdiff(const edmi_potential *pot, edmi_real d0, edmi_r
 }
 
 /* What a potential's coefficient (a/2, a/4, a/6, 4a) multiplies at length d (s = d^2): the
- * coefficient's own underflow (a near the smallest normals; measured: a = 1.4e-45 in float,
- * whose a/2 is 0) errs by this many subnormal units. */
+ * coefficient's own underflow (a near the smallest subnormals, whose a/2 rounds to 0) errs by
+ * this many subnormal units. */
 static edmi_real edmi__pot_span(const edmi_potential *pot, edmi_real d, edmi_real s)
 {
     edmi_real b = pot->b, t;
@@ -1484,6 +1484,7 @@ static edmi_real edmi__off_sys(const void *ctx, int a, int b)
     return edmi__mass_ab((const edmi_system *)ctx, a, b);
 }
 
+#if EDMI_WITH_SCENE
 static edmi_real edmi__off_scene(const void *ctx, int a, int b)
 {
     const edmi_scene *sc = (const edmi_scene *)ctx;
@@ -1495,6 +1496,7 @@ static edmi_real edmi__off_scene(const void *ctx, int a, int b)
     }
     return EDMI__ZERO;
 }
+#endif
 
 /* Cholesky M - shift I = L L^T row by row (M's diagonal from body[], its off-diagonal masses
  * from off), L's rows within the gap G kept in a ring of G + 1 rows (row r in
@@ -1759,8 +1761,10 @@ static edmi_status edmi__prepare_links(const edmi_system *sys, edmi_workspace *w
         w->d3p0 = p0.sp[3];
         w->d3m0 = p0.sm[3];
     }
-    for (i = 0; i < sys->internal.n_moving; i++)
-        edmi__copy3(sys->internal.anchor_next[sys->internal.moving[i]], work->lw[sys->internal.moving[i]].x1);
+    for (i = 0; i < sys->internal.n_moving; i++) {
+        int j = sys->internal.moving[i];
+        edmi__copy3(sys->internal.anchor_next[j], work->lw[j].x1);
+    }
 #if EDMI_MAX_WALLS > 0
     for (i = 0; i < EDMI__N_WALLS(sys); i++) {
         const edmi_wall *wl = &sys->wall[i];
@@ -2552,7 +2556,7 @@ static edmi_status edmi__evaluate(const edmi_system *sys, edmi_workspace *work, 
 /* Take the Newton correction; halve it while the trial leaves the potentials' domain (a link
  * distance of 0 or a non-finite residual, e.g. a near-collision overshoot). No descent test:
  * at omega dt >> 1 plain Newton reaches the solution along a non-monotone path that a
- * monotone line search blocks (measured on the paper's spring at dt = 0.5). */
+ * monotone line search blocks. */
 static edmi_status edmi__line_search(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                      edmi_real *r, edmi_step_result *res, edmi_real *moved)
 {
@@ -2617,8 +2621,10 @@ static void edmi__noise(const edmi_system *sys, edmi_workspace *work, edmi_real 
                           (edmi__norm(q1[a]) + edmi__norm(sys->body[a].q));
         }
 #endif
-    for (i = 0; i < EDMI__N_FORCED(sys); i++)
-        acc[2 * sys->internal.forced[i] + 1] += EDMI_EPS * dt * edmi__norm(sys->force[sys->internal.forced[i]]);
+    for (i = 0; i < EDMI__N_FORCED(sys); i++) {
+        int b = sys->internal.forced[i];
+        acc[2 * b + 1] += EDMI_EPS * dt * edmi__norm(sys->force[b]);
+    }
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         const edmi_link_ws *w = &work->lw[j];
@@ -2775,9 +2781,9 @@ static edmi_status edmi__explicit_predictor(const edmi_system *sys, edmi_workspa
 /* Whether a chord correction (the last factors of the Newton matrix used again) pays: when
  * factoring, ~n kb^2 multiply-adds for n = 3 N unknowns and half-bandwidth kb, costs more
  * than a residual evaluation, a few hundred operations per link. A chord correction
- * contracts linearly (the next correction ~ c_l^2 / c_l-1, not c_l^3 / c_l-1^2): measured
- * on the 10-body all-pairs scene, both precisions, it converges in as many corrections as
- * Newton. One-body systems solve 3x3 in closed form and never reuse. */
+ * contracts linearly (the next correction ~ c_l^2 / c_l-1, not c_l^3 / c_l-1^2), which the
+ * rate below keeps close to Newton's count of corrections (docs/api.md, "Solver"). One-body
+ * systems solve 3x3 in closed form and never reuse. */
 #define EDMI__CHORD_RATE (EDMI_R(1.0) / EDMI_R(8.0))
 
 static int edmi__chord_pays(const edmi_system *sys, const edmi_workspace *work)
@@ -2789,81 +2795,158 @@ static int edmi__chord_pays(const edmi_system *sys, const edmi_workspace *work)
 /* A residual that stopped halving within this factor of its round-off noise is there. */
 #define EDMI__NOISE_FACTOR EDMI_R(8.0)
 
-/* The multi-corrector from the evaluated predictor. Newton stops (edmi_stop):
- *  - at the optional tol_r / tol_a;
- *  - CONVERGED when the next correction, predicted from the last two in Newton's quadratic
- *    regime (c_l+1 = C c_l^2 with C = c_l / c_l-1^2, so c_l+1 = c_l^3 / c_l-1^2, taken only
- *    when the last two corrections each contracted by 4 or more and the residual is in its
- *    quadratic tail too, not risen and below sqrt(eps) r_0: at omega dt = 100 the Newton
- *    matrix is ~1e4 I, and a small correction can follow a large one far from the root),
- *    would be below eps in the scaled norm: it could not move the iterate
- *    by a unit roundoff. Or when a full correction (or the residual) is exactly 0. On the
- *    paper's spring: 2 corrections in float, 2-3 in double;
- *  - STALLED when the residual's noise is above eps: it stopped halving, without more than
- *    doubling, after the quadratic regime (two residuals below sqrt(eps) r_0; a residual that
- *    grew more is a stiff step's detour, on which PT at omega dt = 100 gained 12 J of 1e4),
- *    or it stopped halving within 8x its estimated round-off noise
- *    (edmi__noise_floor; measured: the LG quotient in float on a circular orbit, |d1 - d0|
- *    ~ 1e-6, noise ~1e-2, where Newton otherwise cycles between two iterates for ever; GE in
- *    float on 16 LJ bodies near equilibrium, whose convex and concave halves cancel, noise
- *    ~1e-4 r_0). Unlike a floor estimate that accepts any residual below it, this stops only
- *    once the residual has stopped falling. */
+/* Newton's record of its iterations, for its choice of correction and its stop tests. */
+typedef struct edmi__newton_log {
+    int l;                /* the iteration, from 1 */
+    int chord;            /* its correction reused old factors */
+    int halvings_before;  /* res->halvings before its line search */
+    edmi_real r, rprev;   /* the scaled residual after and before it */
+    edmi_real c;          /* its scaled correction, before the line search halved it */
+    edmi_real cprev;      /* the correction taken at the iteration before (c moved) */
+    edmi_real cprev2;     /* and at the one before that */
+    edmi_real moved;      /* the fraction of c taken */
+    int contracted;       /* c contracted by EDMI__CHORD_RATE on the one before */
+    int refreshed;        /* the kept factors were factored anew at an iterate of this step */
+    int chord_ok;         /* chords still allowed in this step */
+} edmi__newton_log;
+
+/* Whether iteration g->l + 1 takes a chord correction (the last factors again), where
+ * factoring costs more than it saves (edmi__chord_pays): at l = 1 from the factors the last
+ * step kept; later only once a contracting correction has brought the residual into Newton's
+ * quadratic tail, below sqrt(eps) r_0, because the first tangent at a far predictor is a poor
+ * one, or once the last step's factors stopped contracting and were factored anew at an
+ * iterate their chord corrections had brought near. With tol_r or tol_a too: a chord stops
+ * just below the tolerance where Newton's quadratic last step lands far below it. A chord
+ * correction that does not contract by 8, or raises the residual, ends the chord for the
+ * step. docs/api.md ("Solver") gives the measured cases behind each rule. */
+static int edmi__chord_now(const edmi_system *sys, const edmi_workspace *work,
+                           const edmi__newton_log *g, edmi_real residual0, int l)
+{
+    return g->chord_ok && sys->n_bodies > 1 && g->moved == EDMI__ONE &&
+           (l == 1 ? work->kept
+                   : g->contracted && (work->kept || g->refreshed ||
+                                       g->r <= EDMI__SQRT_EPS * residual0)) &&
+           edmi__chord_pays(sys, work);
+}
+
+/* The stops at a solution, tested after each correction (edmi_stop): the optional tol_r and
+ * tol_a; CONVERGED when the next correction, predicted from the last two in Newton's
+ * quadratic regime (c_l+1 = C c_l^2 with C = c_l / c_l-1^2, so c_l+1 = c_l^3 / c_l-1^2,
+ * taken only when the last two corrections each contracted by 4 or more and the residual is
+ * in its quadratic tail too, not risen and below sqrt(eps) r_0: at omega dt = 100 the Newton
+ * matrix is ~1e4 I, and a small correction can follow a large one far from the root), would
+ * be below eps in the scaled norm, so that it could not move the iterate by a unit
+ * roundoff, or when a full correction (or the residual) is exactly 0. 1 where Newton stops,
+ * with its status in *st. */
+static int edmi__newton_solved(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                               const edmi__newton_log *g, edmi_step_result *res,
+                               edmi_status *st)
+{
+    const edmi_params *prm = &sys->params;
+    edmi_real r = g->r, c = g->c;
+    *st = EDMI_OK;
+    if (prm->tol_r > EDMI__ZERO && r <= prm->tol_r * res->residual0 &&
+        edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_r / EDMI_EPS))) {
+        res->stop = EDMI_STOP_TOL_R;
+        return 1;
+    }
+    if (prm->tol_a > EDMI__ZERO && r <= prm->tol_a &&
+        edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_a / EDMI_EPS))) {
+        res->stop = EDMI_STOP_TOL_A;
+        return 1;
+    }
+    if (g->moved == EDMI__ONE &&
+        (c == EDMI__ZERO || r == EDMI__ZERO ||
+         (g->l >= 2 && r <= g->rprev && r <= EDMI__SQRT_EPS * res->residual0 &&
+          c <= EDMI_R(0.25) * g->cprev && g->cprev <= EDMI_R(0.25) * g->cprev2 &&
+          (g->chord ? c * c <= EDMI_EPS * g->cprev : c * c * c <= EDMI_EPS * g->cprev * g->cprev)))) {
+        if (r == EDMI__ZERO || edmi__solved(sys, work, dt, EDMI__SOLVED)) {
+            res->stop = EDMI_STOP_CONVERGED;
+            return 1;
+        }
+        if (c == EDMI__ZERO) { /* the iterate cannot move: every further correction is 0 */
+            *st = EDMI_ERR_NO_CONVERGENCE;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The stops short of the tolerances: STALLED when the residual's noise is above eps: it
+ * stopped halving, without more than doubling, after the quadratic regime (two residuals
+ * below sqrt(eps) r_0; a residual that grew more is a stiff step's detour), or it stopped
+ * halving within EDMI__NOISE_FACTOR of its estimated round-off noise (edmi__noise_floor: the
+ * LG quotient on a near-circular orbit, GE's cancelling halves, where Newton otherwise cycles
+ * between two iterates for ever; docs/api.md, "Solver"). Unlike a floor estimate that
+ * accepts any residual below it, this stops only once the residual has stopped falling. At
+ * l_max: EDMI_ERR_DIVERGED if the last line search still halved, else NO_CONVERGENCE. */
+static int edmi__newton_stalled(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
+                                const edmi__newton_log *g, edmi_step_result *res,
+                                edmi_status *st)
+{
+    edmi_real r = g->r, rprev = g->rprev, r0 = res->residual0;
+    *st = EDMI_OK;
+    if (g->l >= 2 && r > EDMI__HALF * rprev &&
+        ((rprev <= EDMI__SQRT_EPS * r0 && r <= EDMI__SQRT_EPS * r0 && r <= EDMI_R(2.0) * rprev) ||
+         r <= EDMI__NOISE_FACTOR * edmi__noise_floor(sys, work, dt)) &&
+        edmi__solved(sys, work, dt, EDMI__SOLVED)) {
+        res->stop = EDMI_STOP_STALLED;
+        return 1;
+    }
+    if (g->l >= sys->params.l_max) { /* still pushed out of the domain, or just slow */
+        *st = res->halvings > g->halvings_before ? EDMI_ERR_DIVERGED : EDMI_ERR_NO_CONVERGENCE;
+        return 1;
+    }
+    return 0;
+}
+
+/* The multi-corrector from the evaluated predictor: a correction (a chord where
+ * edmi__chord_now says so), the line search, then the stop tests (edmi__newton_solved,
+ * edmi__newton_stalled). On the paper's spring it stops after 2 corrections in float, 2-3 in
+ * double (docs/api.md, "Solver"). */
 static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, edmi_real dt,
                                 edmi_step_result *res)
 {
-    const edmi_params *prm = &sys->params;
-    edmi_real r = res->residual0, rprev, moved = EDMI__ONE, c, cprev = EDMI__ZERO;
-    edmi_real cprev2 = EDMI_REAL_MAX;
+    edmi__newton_log g;
     edmi_status st;
-    int l, halvings_before, switches_before, chord = 0, contracted = 0, chord_ok = 1;
-    int refreshed = 0;
-    if (!(r > EDMI__ZERO))
+    int l, switches_before;
+    g.r = res->residual0;
+    g.moved = EDMI__ONE;
+    g.cprev = EDMI__ZERO;
+    g.cprev2 = EDMI_REAL_MAX;
+    g.contracted = 0;
+    g.refreshed = 0;
+    g.chord_ok = 1;
+    if (!(g.r > EDMI__ZERO))
         return EDMI_OK;
     for (l = 1;; l++) {
-        /* A chord correction (the last factors again) where factoring costs more than it
-         * saves: at l = 1 from the factors the last step kept; later only once a contracting
-         * correction has brought the residual into Newton's quadratic tail, below sqrt(eps)
-         * r_0, because the first tangent at a far predictor is a poor one, or once the
-         * last step's factors stopped contracting and were factored anew at an iterate their
-         * chord corrections had brought near (the solar system at the paper's tol_R, 365,000
-         * steps of PM: 0.51 factorisations per step where waiting for sqrt(eps) r_0 took 1.02,
-         * and 7.1 corrections instead of 6.6; make run-examples 3 % less CPU). With tol_r or
-         * tol_a too: a chord stops just below the tolerance where Newton's quadratic last
-         * step lands far below it, but at the paper's tol_R = 1e-12 the solar system's H
-         * drifts by 4.1e-12 where Newton's drifts by 3.2e-12, at 71 % of the instructions.
-         * A chord correction that does not contract by 8, or raises the residual, ends the
-         * chord for the step. docs/api.md ("Solver") gives the measured cases behind each
-         * rule. */
-        chord = chord_ok && sys->n_bodies > 1 && moved == EDMI__ONE &&
-                (l == 1 ? work->kept
-                        : contracted && (work->kept || refreshed ||
-                                         r <= EDMI__SQRT_EPS * res->residual0)) &&
-                edmi__chord_pays(sys, work);
+        g.chord = edmi__chord_now(sys, work, &g, res->residual0, l);
+        g.l = l;
         switches_before = res->lg_switches;
-        st = edmi__newton_update(sys, work, dt, chord);
+        st = edmi__newton_update(sys, work, dt, g.chord);
         if (st == EDMI_ERR_SINGULAR && l == 1) {
             /* Singular at the paper's predictor (q_n, p_n): a compressed link at dt beyond
              * 2 sqrt(m / |beta|) can make the transverse stiffness cancel the identity exactly
              * there, and a body at rest would stay on that point for ever. Start once more
              * from the explicit predictor p = p_n - R_p(q_n, p_n) (the forces' impulse),
              * q = q_n + dt/(2m) (p_n + p). */
-            st = edmi__explicit_predictor(sys, work, dt, &r, res);
+            st = edmi__explicit_predictor(sys, work, dt, &g.r, res);
             if (st == EDMI_OK)
                 st = edmi__newton_update(sys, work, dt, 0);
         }
         if (st != EDMI_OK)
             return st;
-        c = edmi__scaled_norm(sys, work, work->rhs, (const edmi_real (*)[3])work->dp);
-        rprev = r;
-        halvings_before = res->halvings;
-        if (l == 1 && chord) { /* the last step's factors, taken once, never halved */
+        g.c = edmi__scaled_norm(sys, work, work->rhs, (const edmi_real (*)[3])work->dp);
+        g.rprev = g.r;
+        g.halvings_before = res->halvings;
+        if (l == 1 && g.chord) { /* the last step's factors, taken once, never halved */
             edmi__move(sys, work, EDMI__ONE);
-            st = edmi__evaluate(sys, work, dt, &r, res);
-            moved = EDMI__ONE;
+            st = edmi__evaluate(sys, work, dt, &g.r, res);
+            g.moved = EDMI__ONE;
         } else {
-            st = edmi__line_search(sys, work, dt, &r, res, &moved);
+            st = edmi__line_search(sys, work, dt, &g.r, res, &g.moved);
         }
-        if (l == 1 && chord && !(st == EDMI_OK && r <= EDMI__HALF * rprev)) {
+        if (l == 1 && g.chord && !(st == EDMI_OK && g.r <= EDMI__HALF * g.rprev)) {
             /* the last step's factors did not halve the predictor's residual (or left the
              * domain): back to the predictor, and the correction with its own matrix. At
              * most one linear solve and two evaluations more than a step without them. */
@@ -2871,7 +2954,7 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
             st = edmi__predictor(sys, work, dt, res);
             if (st != EDMI_OK)
                 return st;
-            r = edmi__scaled_residual(sys, work);
+            g.r = edmi__scaled_residual(sys, work);
             work->kept = 0;
             l = 0;
             continue;
@@ -2879,52 +2962,23 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         if (st != EDMI_OK)
             return st;
         res->iterations = l;
-        res->residual = r;
-        res->correction = c * moved;
-        if (prm->tol_r > EDMI__ZERO && r <= prm->tol_r * res->residual0 &&
-            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_r / EDMI_EPS))) {
-            res->stop = EDMI_STOP_TOL_R;
-            return EDMI_OK;
-        }
-        if (prm->tol_a > EDMI__ZERO && r <= prm->tol_a &&
-            edmi__solved(sys, work, dt, edmi__max(EDMI__SOLVED, prm->tol_a / EDMI_EPS))) {
-            res->stop = EDMI_STOP_TOL_A;
-            return EDMI_OK;
-        }
-        if (moved == EDMI__ONE && (c == EDMI__ZERO || r == EDMI__ZERO ||
-                                   (l >= 2 && r <= rprev && r <= EDMI__SQRT_EPS * res->residual0 &&
-                                    c <= EDMI_R(0.25) * cprev &&
-                                    cprev <= EDMI_R(0.25) * cprev2 &&
-                                    (chord ? c * c <= EDMI_EPS * cprev
-                                           : c * c * c <= EDMI_EPS * cprev * cprev)))) {
-            if (r == EDMI__ZERO || edmi__solved(sys, work, dt, EDMI__SOLVED)) {
-                res->stop = EDMI_STOP_CONVERGED;
-                return EDMI_OK;
-            }
-            if (c == EDMI__ZERO) /* the iterate cannot move: every further correction is 0 */
-                return EDMI_ERR_NO_CONVERGENCE;
-        }
-        contracted = l == 1 || c <= EDMI__CHORD_RATE * cprev;
-        if (chord && (!contracted || r > rprev)) {
+        res->residual = g.r;
+        res->correction = g.c * g.moved;
+        if (edmi__newton_solved(sys, work, dt, &g, res, &st))
+            return st;
+        g.contracted = l == 1 || g.c <= EDMI__CHORD_RATE * g.cprev;
+        if (g.chord && (!g.contracted || g.r > g.rprev)) {
             if (work->kept) { /* the last step's matrix is too old here: factor anew, */
                 work->kept = 0;
-                refreshed = 1; /* at an iterate the chord already brought near */
+                g.refreshed = 1; /* at an iterate the chord already brought near */
             } else {
-                chord_ok = 0;
+                g.chord_ok = 0;
             }
         }
-        cprev2 = l >= 2 ? cprev : EDMI_REAL_MAX;
-        cprev = res->correction;
-        if (l >= 2 && r > EDMI__HALF * rprev &&
-            ((rprev <= EDMI__SQRT_EPS * res->residual0 && r <= EDMI__SQRT_EPS * res->residual0 &&
-              r <= EDMI_R(2.0) * rprev) ||
-             r <= EDMI__NOISE_FACTOR * edmi__noise_floor(sys, work, dt)) &&
-            edmi__solved(sys, work, dt, EDMI__SOLVED)) {
-            res->stop = EDMI_STOP_STALLED;
-            return EDMI_OK;
-        }
-        if (l >= prm->l_max) /* still pushed out of the domain, or just slow */
-            return res->halvings > halvings_before ? EDMI_ERR_DIVERGED : EDMI_ERR_NO_CONVERGENCE;
+        g.cprev2 = l >= 2 ? g.cprev : EDMI_REAL_MAX;
+        g.cprev = res->correction;
+        if (edmi__newton_stalled(sys, work, dt, &g, res, &st))
+            return st;
     }
 }
 
@@ -3047,9 +3101,8 @@ static int edmi__link_still(const edmi_system *sys, const edmi_link_ws *w, const
  * terms at d1, are returned too. */
 /* What a callback's value may lose to underflow, flush to zero included: V' at the mid-length
  * and the two V''' the perturbation reads, each up to this, enter the bound through |dd| and
- * |dd|^3 / 24. Found by the fuzzer: V = -100/r at r ~ 1e12 in float, whose V''' (6e-46) the
- * callback returns as 0, and a step of dd = 4.8e10, where the lost dd^3/24 V''' (2.8e-15)
- * was the margin of the bound over V's true change. */
+ * |dd|^3 / 24: a V''' the callback flushes to 0 on a long step can otherwise be the bound's
+ * whole margin over V's true change (docs/testing.md lists the fuzzer's case). */
 #define EDMI__USER_TINY (EDMI_R(2.0) * EDMI__REAL_MIN)
 
 static edmi_status edmi__user_dv(const edmi_system *sys, const edmi_link_ws *w,
@@ -3355,12 +3408,13 @@ static void edmi__link_v_dw(const edmi_potential *pot, edmi__dw r[3], const edmi
 }
 
 #if EDMI_MAX_WALLS > 0
-/* A wall's gap g = n.q - c at body position q (the wall at offset c) and V(g), in double-word with the bound *err on
- * V's error, in the balance's units (V times scale^2). The products n_i q_i are exact and
- * their sum errs by a few u^2 of G = sum |n_i q_i| + |c| (taken as EDMI__DW_X G), which
- * reaches V through V' (the gap's harmonic k x or one-sided k x^2, x = g - b or b - g):
- * m = a xe^(p-1) (xe + G + b), xe = |x| + EDMI__DW_X (G + b), p = 2 or 3; a one-sided form
- * more than twice that from its kink on the free side is 0 exactly, with no error. */
+/* A wall's gap g = n.q - c at body position q (the wall at offset c) and V(g), in double-word
+ * with the bound *err on V's error, in the balance's units (V times scale^2). The products
+ * n_i q_i are exact and their sum errs by a few u^2 of G = sum |n_i q_i| + |c| (taken as
+ * EDMI__DW_X G), which reaches V through V' (the gap's harmonic k x or one-sided k x^2,
+ * x = g - b or b - g): m = a xe^(p-1) (xe + G + b), xe = |x| + EDMI__DW_X (G + b), p = 2 or
+ * 3; a one-sided form more than twice that from its kink on the free side is 0 exactly, with
+ * no error. */
 static void edmi__wall_v_dw(const edmi_wall *wl, const edmi_real q[3], edmi_real c,
                             const edmi__balance *bal, edmi__dw *g, edmi__dw *v, edmi_real *err)
 {
@@ -3971,8 +4025,7 @@ static void edmi__sort_residues(const edmi_real *r, int n, int *order)
  * changing the momenta least: |dJ|^2 (J about the origin) plus, without anchor links,
  * |dL|^2 l2 (l2 a squared length, so both are angular momenta). Without that second
  * criterion the choice is blind to the directions the energy does not see, and J drifts
- * (measured on the paper's spring in float: 1.6e-3 |J0| over 10^5 steps, 30x plain
- * rounding). The coarsest momentum component is solved for each candidate; for each offset
+ * over long runs. The coarsest momentum component is solved for each candidate; for each offset
  * pair of the two finer ones only the position variants whose energies fall nearest the
  * gap (modulo the coarsest unit: the variants are kept sorted by that residue) are tried.
  * At most *budget candidates, each counted off it (EDMI__ROUND_BUDGET). Returns 0 if none. */
@@ -4242,7 +4295,6 @@ static int edmi__settled(const edmi__aim *t)
     return t->strict > EDMI__ZERO ? t->e + t->margin <= -t->strict : edmi__certified(t);
 }
 
-/* One energy-aware rounding, the coarsest component within k3 units; 0 if nothing in range. */
 /* d(V - work_ext)/dq_a at the end of the step, from each link's V'(d_n+1) (working
  * precision: the rounding search only needs its candidates' energies to ~eps relative), and
  * *h, a bound on the curvature (edmi__qmoves). */
@@ -4384,8 +4436,8 @@ static int edmi__guard_round(const edmi_system *sys, edmi_workspace *work, edmi_
     tol = edmi__max(t->tol, EDMI__ROUND_WINDOW * edmi__abs(EDMI__PK(&c[0]) * c[0].u / c[0].m2));
     /* with a coupled M the search's model of K is exact to first order only (the cross terms
      * of M^-1 between the moved components are left out): aim two units of the coarsest
-     * component below the edge, or its misses need a drag (measured: the hanging cable's
-     * first steps from rest, where the tank is empty) */
+     * component below the edge, or its misses need a drag (the hanging cable's first
+     * steps from rest, with the tank empty) */
     goal = t->goal - (EDMI__COUPLED(sys) ? edmi__abs(edmi__comp_dk(&c[0], 2)) : EDMI__ZERO);
     if (!edmi__round_search(c, n, &qm, k3, goal, t->hi, tol, l2, k, &qv, &budget))
         return 0;
@@ -4728,41 +4780,16 @@ static edmi_status edmi__step_work(const edmi_system *sys, edmi_workspace *work,
     return EDMI_OK;
 }
 
-/* The fallback state (params.fallback, where a step or substep failed; and the guard's stop
- * at the bottom of the range): positions kept, momenta set to the frame's (edmi__guard_stop),
- * or to 0 where those are not certified. Passive by construction: K does not grow, V changes
- * only where an anchor moved, and work_anchor is that change rounded upwards (the work a hand
- * does moving its end of a frozen link); with the guard on it fills the tank by what a
- * certificate shows it removed, up to the capacity (with the momenta 0 and no certificate the
- * tank keeps its level). link_force is each link's force V'(d) r/d at the end of the
- * step. Where no anchor moves nothing can fail: H changes by K's change alone, and where even
- * that cannot be evaluated (beyond the range) the momenta are set to 0, K_n+1 = 0 <= K_n. A
- * moved anchor that ends on its body or where its energy is beyond the range fails the call
- * (EDMI_ERR_END_STATE, EDMI_ERR_OVERFLOW): no state with the bodies kept is passive then. */
-static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
-                                edmi_step_result *res)
+/* The fallback state's forces at the kept positions: each link's V'(d) r/d (V'(d_n) where
+ * both ends are kept) and each wall's V'(g) n, adding their magnitudes to *s1 (the tank's
+ * capacity) and *so (the balance's scale), their components to *xh, and counting the walls
+ * that move into *moved_walls. */
+static edmi_status edmi__freeze_forces(const edmi_system *sys, edmi_workspace *work,
+                                       edmi_real *s1, edmi_real *so, edmi_real *xh,
+                                       int *moved_walls)
 {
-    edmi__balance bal;
-    edmi__aim t;
-    edmi_real wa, s1 = EDMI__ZERO, so = edmi__tank_n(sys), xh = EDMI__ZERO, after;
-    int a, i, j, pass, moved_walls = 0;
+    int i, j;
     edmi_status st;
-    for (a = 0; a < sys->n_bodies; a++) {
-        edmi__copy3(sys->body[a].q, work->q1[a]);
-        edmi__copy3(sys->body[a].p, work->p1[a]);
-        for (i = 0; i < 3; i++)
-            xh = edmi__max(xh, edmi__abs(sys->body[a].p[i]));
-    }
-    edmi__guard_stop(sys, work);
-    for (a = 0; a < sys->n_bodies; a++) { /* magnitudes: the tank's capacity and the scale */
-        edmi_real m = edmi__mass_row(sys, a);
-        s1 += EDMI__HALF * edmi__dot(work->p1[a], work->p1[a]) / sys->body[a].m;
-        if (EDMI__HAS_FIELD(sys)) {
-            edmi_real f = edmi__abs(m) * edmi__norm(sys->g) * edmi__norm(sys->body[a].q);
-            s1 += f;
-            so += EDMI_R(2.0) * f;
-        }
-    }
     for (j = 0; j < sys->n_links; j++) {
         const edmi_link *lk = &sys->link[j];
         edmi_link_ws *w = &work->lw[j];
@@ -4777,19 +4804,19 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         w->beta = EDMI__ZERO;
         if (edmi__is_linear(&lk->pot)) {
             w->beta = lk->pot.a;
-            s1 += EDMI_R(1.5) * lk->pot.a * d1 * d1;
+            *s1 += EDMI_R(1.5) * lk->pot.a * d1 * d1;
             for (i = 0; i < 3; i++)
-                xh = edmi__max(xh, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
+                *xh = edmi__max(*xh, edmi__max(edmi__abs(r1[i]), edmi__abs(w->r0[i])));
         } else if (!w->bal_on) { /* both ends kept: V'(d_n), finite (edmi__prepare_links) */
             dv = w->dv0;
             w->beta = dv / d1;
-            s1 += w->m0;
-            so += EDMI_R(2.0) * w->m0;
+            *s1 += w->m0;
+            *so += EDMI_R(2.0) * w->m0;
         } else if (d1 > EDMI__ZERO && edmi__pot_parts(&lk->pot, d1, &pp, 1) == EDMI_OK) {
             dv = pp.v[1];
             w->beta = dv / d1;
-            s1 += edmi__pot_mag(&lk->pot, &pp, d1);
-            so += w->m0 + edmi__pot_mag(&lk->pot, &pp, d1);
+            *s1 += edmi__pot_mag(&lk->pot, &pp, d1);
+            *so += w->m0 + edmi__pot_mag(&lk->pot, &pp, d1);
         }
         for (i = 0; i < 3; i++) /* V'(d) times the unit vector: finite where V' is */
             w->f[i] = edmi__is_linear(&lk->pot) ? w->beta * r1[i] : dv * (r1[i] / d1);
@@ -4801,53 +4828,69 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         const edmi_wall *wl = &sys->wall[j];
         edmi_link_ws *w = &work->ww[j];
         edmi_pot_parts pp;
-        edmi_real g1 = edmi__wall_gap(wl, sys->body[wl->a].q, w->x1[0]);
+        edmi_real g1 = edmi__wall_gap(wl, sys->body[wl->a].q, w->x1[0]), m1;
         if (edmi__pot_parts(&wl->pot, g1, &pp, 0) != EDMI_OK || !edmi__finite(pp.v[0]) ||
             !edmi__finite(pp.v[1]))
             return EDMI_ERR_OVERFLOW; /* a moved wall's energy beyond the range */
         w->beta = pp.v[1];
         edmi__scale3(w->beta, wl->n, w->f);
-        s1 += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(w->x1[0]));
-        so += edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(w->x1[0])) +
-              edmi__abs(w->v0) + edmi__abs(w->dv0) * (edmi__abs(w->d0) + edmi__abs(wl->c));
-        moved_walls += w->x1[0] != wl->c;
+        m1 = edmi__abs(pp.v[0]) + edmi__abs(pp.v[1]) * (edmi__abs(g1) + edmi__abs(w->x1[0]));
+        *s1 += m1;
+        *so += m1 + edmi__abs(w->v0) + edmi__abs(w->dv0) * (edmi__abs(w->d0) + edmi__abs(wl->c));
+        *moved_walls += w->x1[0] != wl->c;
     }
+#else
+    (void)moved_walls;
 #endif
-    res->work_ext = EDMI__ZERO;
-    res->diss_damping = EDMI__ZERO;
-    res->diss_scheme = EDMI__ZERO;
-    res->diss_guard = EDMI__ZERO;
-    res->guard_action = 0;
+    return EDMI_OK;
+}
+
+/* The fallback state's work_anchor: the moved anchors' (walls') change of V at the kept
+ * positions, rounded upwards (0 where nothing moved), into res and the balance's work. */
+static edmi_status edmi__freeze_work(const edmi_system *sys, edmi_workspace *work,
+                                     edmi__balance *bal, int moved_walls, edmi_step_result *res)
+{
+    edmi_real wa;
     res->work_anchor = EDMI__ZERO;
-    edmi__set_scale(&bal, xh, so);
-    bal.scheme_on = 0;
     if (sys->internal.n_moving > 0 || moved_walls > 0) {
-        st = edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, &bal, -1);
-        if (st != EDMI_OK)
+        if (edmi__delta_v(sys, work, (const edmi_real (*)[3])work->q1, bal, -1) != EDMI_OK)
             return EDMI_ERR_OVERFLOW; /* the moved anchors' (walls') energy beyond the range */
         /* dv + |dv.lo| + err_v >= the exact change, its two sums rounded up: each errs by
          * at most eps/2 of its terms (not of the sum, which can cancel), so 4 eps of them
          * covers both, the division by scale^2 and a subnormal quotient (REAL_MIN) */
-        wa = bal.dv.hi + (edmi__abs(bal.dv.lo) + bal.err_v);
-        wa += (edmi__abs(bal.dv.hi) + edmi__abs(bal.dv.lo) + bal.err_v) * (EDMI_R(4.0) * EDMI_EPS);
-        res->work_anchor = edmi__down2(&bal, wa) + EDMI__REAL_MIN;
+        wa = bal->dv.hi + (edmi__abs(bal->dv.lo) + bal->err_v);
+        wa += (edmi__abs(bal->dv.hi) + edmi__abs(bal->dv.lo) + bal->err_v) *
+              (EDMI_R(4.0) * EDMI_EPS);
+        res->work_anchor = edmi__down2(bal, wa) + EDMI__REAL_MIN;
         if (!edmi__finite(res->work_anchor))
             return EDMI_ERR_OVERFLOW;
     } else { /* nothing moved: every link term is exactly 0 (edmi__delta_v) */
-        bal.dv = edmi__dw_of(EDMI__ZERO);
-        bal.err_v = bal.size_v = EDMI__ZERO;
+        bal->dv = edmi__dw_of(EDMI__ZERO);
+        bal->err_v = bal->size_v = EDMI__ZERO;
     }
-    bal.w = edmi__dw_up2(&bal, edmi__dw_of(res->work_anchor));
-    t.tank = edmi__guard_on(&sys->params) ? edmi__up2(&bal, edmi__tank_n(sys)) : EDMI__ZERO;
+    bal->w = edmi__dw_up2(bal, edmi__dw_of(res->work_anchor));
+    return EDMI_OK;
+}
+
+/* The fallback state's certificate and tank: the frame's momenta where certified, else
+ * momenta 0 (K_n+1 = 0 <= K_n), whose own margin is the construction's when even that is not
+ * certified; s1 the state's magnitudes for the tank's capacity. */
+static void edmi__freeze_certify(const edmi_system *sys, edmi_workspace *work,
+                                 edmi__balance *bal, edmi_real s1, edmi_step_result *res)
+{
+    edmi__aim t;
+    edmi_real after;
+    int a, i, pass;
+    t.tank = edmi__guard_on(&sys->params) ? edmi__up2(bal, edmi__tank_n(sys)) : EDMI__ZERO;
     res->tank = sys->tank;
     for (pass = 0;; pass++) {
         int evaluated;
-        edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, &bal);
-        evaluated = edmi__excess(&bal, &t);
-        res->dh = evaluated ? edmi__down2(&bal, edmi__dw_real(t.h)) : EDMI__ZERO;
+        edmi__delta_k(sys, work, (const edmi_real (*)[3])work->p1, bal);
+        evaluated = edmi__excess(bal, &t);
+        res->dh = evaluated ? edmi__down2(bal, edmi__dw_real(t.h)) : EDMI__ZERO;
         if (evaluated && edmi__certified(&t)) {
-            res->certificate = bal.scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
-            after = edmi__down2(&bal, t.after);
+            res->certificate = bal->scale == EDMI__ONE ? EDMI_CERT_DOUBLE_WORD : EDMI_CERT_SCALED;
+            after = edmi__down2(bal, t.after);
             break;
         }
         if (pass == 1) {
@@ -4869,6 +4912,56 @@ static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
         res->tank = after >= EDMI__REAL_MIN ? (after < res->tank_cap ? after : res->tank_cap)
                                             : EDMI__ZERO;
     }
+}
+
+/* The fallback state (params.fallback, where a step or substep failed; and the guard's stop
+ * at the bottom of the range): positions kept, momenta set to the frame's (edmi__guard_stop),
+ * or to 0 where those are not certified. Passive by construction: K does not grow, V changes
+ * only where an anchor moved, and work_anchor is that change rounded upwards (the work a hand
+ * does moving its end of a frozen link); with the guard on it fills the tank by what a
+ * certificate shows it removed, up to the capacity (with the momenta 0 and no certificate the
+ * tank keeps its level). link_force is each link's force V'(d) r/d at the end of the
+ * step. Where no anchor moves nothing can fail: H changes by K's change alone, and where even
+ * that cannot be evaluated (beyond the range) the momenta are set to 0, K_n+1 = 0 <= K_n. A
+ * moved anchor that ends on its body or where its energy is beyond the range fails the call
+ * (EDMI_ERR_END_STATE, EDMI_ERR_OVERFLOW): no state with the bodies kept is passive then. */
+static edmi_status edmi__freeze(const edmi_system *sys, edmi_workspace *work,
+                                edmi_step_result *res)
+{
+    edmi__balance bal;
+    edmi_real s1 = EDMI__ZERO, so = edmi__tank_n(sys), xh = EDMI__ZERO;
+    int a, i, moved_walls = 0;
+    edmi_status st;
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(sys->body[a].q, work->q1[a]);
+        edmi__copy3(sys->body[a].p, work->p1[a]);
+        for (i = 0; i < 3; i++)
+            xh = edmi__max(xh, edmi__abs(sys->body[a].p[i]));
+    }
+    edmi__guard_stop(sys, work);
+    for (a = 0; a < sys->n_bodies; a++) { /* magnitudes: the tank's capacity and the scale */
+        edmi_real m = edmi__mass_row(sys, a);
+        s1 += EDMI__HALF * edmi__dot(work->p1[a], work->p1[a]) / sys->body[a].m;
+        if (EDMI__HAS_FIELD(sys)) {
+            edmi_real f = edmi__abs(m) * edmi__norm(sys->g) * edmi__norm(sys->body[a].q);
+            s1 += f;
+            so += EDMI_R(2.0) * f;
+        }
+    }
+    st = edmi__freeze_forces(sys, work, &s1, &so, &xh, &moved_walls);
+    if (st != EDMI_OK)
+        return st;
+    res->work_ext = EDMI__ZERO;
+    res->diss_damping = EDMI__ZERO;
+    res->diss_scheme = EDMI__ZERO;
+    res->diss_guard = EDMI__ZERO;
+    res->guard_action = 0;
+    edmi__set_scale(&bal, xh, so);
+    bal.scheme_on = 0;
+    st = edmi__freeze_work(sys, work, &bal, moved_walls, res);
+    if (st != EDMI_OK)
+        return st;
+    edmi__freeze_certify(sys, work, &bal, s1, res);
     return EDMI_OK;
 }
 
@@ -5043,8 +5136,10 @@ static void edmi__commit(edmi_system *sys, const edmi_workspace *work, edmi_real
         edmi__copy3(work->q1[a], sys->body[a].q);
         edmi__copy3(work->p1[a], sys->body[a].p);
     }
-    for (i = 0; i < sys->internal.n_moving; i++)
-        edmi__copy3(sys->internal.anchor_next[sys->internal.moving[i]], sys->link[sys->internal.moving[i]].anchor);
+    for (i = 0; i < sys->internal.n_moving; i++) {
+        int j = sys->internal.moving[i];
+        edmi__copy3(sys->internal.anchor_next[j], sys->link[j].anchor);
+    }
     sys->internal.n_moving = 0;
 #if EDMI_MAX_WALLS > 0
     for (i = 0; i < sys->n_walls; i++) /* a moved wall rests where it got to */
@@ -5322,8 +5417,9 @@ edmi_status edmi_step(edmi_system *sys, edmi_workspace *work, edmi_real dt,
         return st;
     /* the factors this system's last step kept here (work->kept_sys is read only where this
      * system wrote it); nothing a later call trusts unless this one stores the step */
-    work->kept = sys->internal.kept_work == (const void *)work && work->kept_sys == (const void *)sys &&
-                 sys->internal.kept_dt == dt && sys->internal.kept_bodies == sys->n_bodies &&
+    work->kept = sys->internal.kept_work == (const void *)work &&
+                 work->kept_sys == (const void *)sys && sys->internal.kept_dt == dt &&
+                 sys->internal.kept_bodies == sys->n_bodies &&
                  sys->internal.kept_links == sys->n_links && edmi__kept_sane(sys, work);
     work->fresh = 0;
     work->kept_sys = 0;
@@ -5526,7 +5622,6 @@ static edmi_status edmi__bodies_links_valid(int n_bodies, const edmi_body *body,
     return EDMI_OK;
 }
 
-/* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
 #if EDMI_MAX_WALLS > 0
 /* A wall body a may take: a body, n finite and not 0 (unit once stored), c finite, and a
  * potential of the gap (edmi_wall): harmonic, contact or tether, a > 0 and b >= 0 finite. */
@@ -5547,6 +5642,7 @@ static edmi_status edmi__wall_valid(int n_bodies, int a, const edmi_real n[3], e
 }
 #endif
 
+/* The effects beyond links: dampers on existing links, ports on existing bodies, finite. */
 static edmi_status edmi__validate_effects(const edmi_system *sys)
 {
     int i;
@@ -5589,7 +5685,7 @@ static edmi_status edmi__validate_effects(const edmi_system *sys)
 }
 
 /* The counts every entry point relies on before it indexes an array: a caller that wrote
- * sys->n_bodies etc. out of range gets EDMI_ERR_CAPACITY, not an access out of bounds. */
+ * sys->n_bodies etc. out of range gets EDMI_ERR_CORRUPT, not an access out of bounds. */
 static int edmi__counts_valid(const edmi_system *sys)
 {
     return sys->n_bodies >= 0 && sys->n_bodies <= EDMI_MAX_BODIES && sys->n_links >= 0 &&
@@ -5600,11 +5696,11 @@ static int edmi__counts_valid(const edmi_system *sys)
            sys->internal.n_moving <= sys->n_links;
 }
 
-/* The system as a whole: what edmi_step and edmi_invariants_of check before they read it. */
 /* A Newton matrix store smaller than the dense one of EDMI_MAX_BODIES is checked where the
  * system can outgrow it; the default (dense) holds every system and is never checked. */
 #define EDMI__MATRIX_BOUNDED (EDMI_MAX_MATRIX < 9L * EDMI_MAX_BODIES * EDMI_MAX_BODIES)
 
+/* The system as a whole: what edmi_step and edmi_invariants_of check before they read it. */
 static edmi_status edmi__validate_system(const edmi_system *sys)
 {
     edmi_status st;
@@ -5755,8 +5851,6 @@ edmi_status edmi_add_body(edmi_system *sys, edmi_real m, const edmi_real q[3],
     return EDMI_OK;
 }
 
-/* Write a link field by field into zeroed storage: never copy a caller's padding bytes, so
- * that equal systems compare equal with memcmp (edmi_init zeroes every byte). */
 /* *src into *dst, member by member (a struct copy may become a call to memcpy). */
 static void edmi__copy_pot(const edmi_potential *src, edmi_potential *dst)
 {
@@ -5768,6 +5862,8 @@ static void edmi__copy_pot(const edmi_potential *src, edmi_potential *dst)
     dst->ctx = src->ctx;
 }
 
+/* Write a link field by field into zeroed storage: never copy a caller's padding bytes, so
+ * that equal systems compare equal with memcmp (edmi_init zeroes every byte). */
 static void edmi__write_link(edmi_link *dst, int a, int b, const edmi_real x[3],
                              const edmi_potential *pot)
 {
@@ -5992,7 +6088,7 @@ edmi_status edmi_move_anchor(edmi_system *sys, int link, const edmi_real x[3])
     for (i = 0; i < sys->internal.n_moving && sys->internal.moving[i] != link; i++)
         ;
     if (i == sys->internal.n_moving && i >= EDMI_MAX_LINKS) /* a list the caller overwrote */
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     if (i == sys->internal.n_moving)
         sys->internal.moving[sys->internal.n_moving++] = link;
     edmi__copy3(x, sys->internal.anchor_next[link]);
@@ -6015,32 +6111,28 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3])
     for (i = 0; i < sys->internal.n_forced && sys->internal.forced[i] != a; i++)
         ;
     if (i == sys->internal.n_forced && i >= EDMI_MAX_BODIES) /* a list the caller overwrote */
-        return EDMI_ERR_CAPACITY;
+        return EDMI_ERR_CORRUPT;
     if (i == sys->internal.n_forced)
         sys->internal.forced[sys->internal.n_forced++] = a;
     edmi__copy3(f, sys->force[a]);
     return EDMI_OK;
 }
 
-edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
+#if EDMI_WITH_SCENE
+/* Everything edmi_load_scene checks before it writes: counts, parameters, bodies, links (a
+ * link whose ends meet with a potential undefined there is refused, as edmi_add_pair does),
+ * the mass couplings, the Newton matrix's store and the dampers. */
+static edmi_status edmi__scene_valid(const edmi_scene *scene, const edmi_params *p)
 {
-#if !EDMI_WITH_SCENE
-    if (!sys || !scene)
-        return EDMI_ERR_NULL;
-    return EDMI_ERR_DISABLED;
-#else
-    edmi_params p;
     edmi_status st;
     int i, gap = 0;
-    if (!sys || !scene || (scene->n_bodies > 0 && !scene->bodies) ||
-        (scene->n_links > 0 && !scene->links) || (scene->n_dampers > 0 && !scene->dampers))
-        return EDMI_ERR_NULL;
-    p = scene->params ? *scene->params : edmi_default_params();
-    if (scene->n_bodies < 0 || scene->n_bodies > EDMI_MAX_BODIES || scene->n_links < 0 ||
-        scene->n_links > EDMI_MAX_LINKS || scene->n_dampers < 0 ||
+    if (scene->n_bodies < 0 || scene->n_links < 0 || scene->n_dampers < 0 ||
+        scene->n_mass_couplings < 0)
+        return EDMI_ERR_PARAM;
+    if (scene->n_bodies > EDMI_MAX_BODIES || scene->n_links > EDMI_MAX_LINKS ||
         scene->n_dampers > EDMI_MAX_DAMPERS)
         return EDMI_ERR_CAPACITY;
-    st = edmi__params_valid(&p);
+    st = edmi__params_valid(p);
     if (st != EDMI_OK)
         return st;
     if (scene->has_field && !EDMI_WITH_FIELD)
@@ -6052,12 +6144,14 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         return st;
     for (i = 0; i < scene->n_links; i++) {
         const edmi_link *lk = &scene->links[i];
+        const edmi_real *xb = lk->b == EDMI_ANCHOR ? lk->anchor : scene->bodies[lk->b].q;
+        if (edmi__same3(scene->bodies[lk->a].q, xb) && !edmi__is_linear(&lk->pot))
+            return EDMI_ERR_COINCIDENT; /* the first step could not start */
         if (lk->b != EDMI_ANCHOR && (lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a) > gap)
             gap = lk->a > lk->b ? lk->a - lk->b : lk->b - lk->a;
     }
     /* at most one entry per pair within the gap: N G of them */
-    if (scene->n_mass_couplings < 0 ||
-        scene->n_mass_couplings > EDMI_MAX_BODIES * EDMI_MAX_MASS_GAP)
+    if (scene->n_mass_couplings > EDMI_MAX_BODIES * EDMI_MAX_MASS_GAP)
         return EDMI_ERR_CAPACITY;
 #if EDMI_MAX_MASS_GAP > 0
     if (scene->n_mass_couplings > 0 && !scene->mass_couplings)
@@ -6094,8 +6188,14 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         if (st != EDMI_OK)
             return st;
     }
-    /* validated: now replace */
-    (void)edmi_init(sys, &p);
+    return EDMI_OK;
+}
+
+/* Replace the system by a validated scene. */
+static void edmi__scene_write(edmi_system *sys, const edmi_scene *scene, const edmi_params *p)
+{
+    int i;
+    (void)edmi_init(sys, p);
     for (i = 0; i < scene->n_bodies; i++) {
         const edmi_body *bd = &scene->bodies[i];
         sys->body[i].m = bd->m;
@@ -6124,6 +6224,26 @@ edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
         sys->has_field = 1;
         edmi__copy3(scene->g, sys->g);
     }
+}
+#endif
+
+edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene)
+{
+#if !EDMI_WITH_SCENE
+    if (!sys || !scene)
+        return EDMI_ERR_NULL;
+    return EDMI_ERR_DISABLED;
+#else
+    edmi_params p;
+    edmi_status st;
+    if (!sys || !scene || (scene->n_bodies > 0 && !scene->bodies) ||
+        (scene->n_links > 0 && !scene->links) || (scene->n_dampers > 0 && !scene->dampers))
+        return EDMI_ERR_NULL;
+    p = scene->params ? *scene->params : edmi_default_params();
+    st = edmi__scene_valid(scene, &p);
+    if (st != EDMI_OK)
+        return st;
+    edmi__scene_write(sys, scene, &p);
     return EDMI_OK;
 #endif
 }

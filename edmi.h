@@ -873,8 +873,9 @@ edmi_status edmi_set_force(edmi_system *sys, int a, const edmi_real f[3]);
 
 /** \brief Replace the system by a scene (t = 0, no force ports). Everything is validated
  *  first: on any error the system is unchanged.
- *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_CAPACITY, EDMI_ERR_MASS, EDMI_ERR_NONFINITE,
- *          EDMI_ERR_INDEX, EDMI_ERR_PARAM */
+ *  \return EDMI_OK, EDMI_ERR_NULL, EDMI_ERR_PARAM (also a negative count), EDMI_ERR_CAPACITY,
+ *          EDMI_ERR_MASS, EDMI_ERR_NONFINITE, EDMI_ERR_INDEX, EDMI_ERR_COINCIDENT (a link's
+ *          ends meet with a potential undefined there), EDMI_ERR_DISABLED */
 edmi_status edmi_load_scene(edmi_system *sys, const edmi_scene *scene);
 
 /** \brief Potential constructors (no validation here; edmi_add_pair/anchor validate). */

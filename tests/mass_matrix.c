@@ -281,7 +281,7 @@ static void mm_scene(void)
     MM_BAD_SCENE(EDMI_ERR_NULL, "couplings counted but no list: EDMI_ERR_NULL, unchanged");
     sc.mass_couplings = mc;
     sc.n_mass_couplings = -1;
-    MM_BAD_SCENE(EDMI_ERR_CAPACITY, "a negative count: EDMI_ERR_CAPACITY, unchanged");
+    MM_BAD_SCENE(EDMI_ERR_PARAM, "a negative count: EDMI_ERR_PARAM, unchanged");
 #undef MM_BAD_SCENE
 }
 

@@ -606,6 +606,30 @@ static void ti_coincident(void)
             continue;
         TI_EXPECT(edmi_add_pair(&ti_sys, 0, 1, &lj, 0), EDMI_ERR_COINCIDENT);
         TI_EXPECT(edmi_add_anchor(&ti_sys, 0, q, &nh, 0), EDMI_ERR_COINCIDENT);
+        if (EDMI_WITH_SCENE) { /* and by edmi_load_scene, the system unchanged */
+            edmi_body bs[2];
+            edmi_link ls;
+            edmi_scene sc;
+            memcpy(bs, ti_sys.body, sizeof bs);
+            memset(&ls, 0, sizeof ls);
+            ls.a = 0;
+            ls.b = 1;
+            ls.pot = lj;
+            memset(&sc, 0, sizeof sc);
+            sc.n_bodies = 2;
+            sc.bodies = bs;
+            sc.n_links = 1;
+            sc.links = &ls;
+            sc.params = &prm;
+            TI_EXPECT(edmi_load_scene(&ti_sys, &sc), EDMI_ERR_COINCIDENT);
+            ls.pot = edmi_pot_harmonic(EDMI_R(1.0), EDMI_R(0.0)); /* defined at d = 0 */
+            if (th_has_pot(EDMI_POT_HARMONIC))
+                CHECK_STATUS(edmi_load_scene(&ti_sys, &sc), EDMI_OK);
+            if (!CHECK(edmi_init(&ti_sys, &prm) == EDMI_OK &&
+                       edmi_add_body(&ti_sys, EDMI_R(1.0), q, pa, 0) == EDMI_OK &&
+                       edmi_add_body(&ti_sys, EDMI_R(2.0), q, pb, 0) == EDMI_OK))
+                continue;
+        }
         ti_sys.body[1].q[2] = qo[2];
         if (!CHECK(edmi_add_pair(&ti_sys, 0, 1, &lj, 0) == EDMI_OK))
             continue;
