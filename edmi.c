@@ -5263,6 +5263,57 @@ static void edmi__anchor_at(const edmi_link_ws *w, int pos, int k, edmi_real x[3
         x[i] = pos == (1 << k) ? w->xt[i] : w->xs[i] + f * (w->xt[i] - w->xs[i]);
 }
 
+/* Before the substeps: the step's start (work->q0, p0), the links' and walls' summed forces
+ * cleared, and where each moving anchor and wall starts and ends (xs, xt). */
+static void edmi__substeps_start(const edmi_system *sys, edmi_workspace *work)
+{
+    int a, i, j;
+    work->kept = 0; /* the kept factors are of dt's matrix: substeps factor their own */
+    for (a = 0; a < sys->n_bodies; a++) {
+        edmi__copy3(sys->body[a].q, work->q0[a]);
+        edmi__copy3(sys->body[a].p, work->p0[a]);
+    }
+    for (j = 0; j < sys->n_links; j++)
+        for (i = 0; i < 3; i++)
+            work->lw[j].fsum[i] = EDMI__ZERO;
+#if EDMI_MAX_WALLS > 0
+    for (j = 0; j < EDMI__N_WALLS(sys); j++) /* and a wall's offsets, as an anchor's x */
+        for (i = 0; i < 3; i++) {
+            work->ww[j].fsum[i] = EDMI__ZERO;
+            work->ww[j].xs[i] = i == 0 ? sys->wall[j].c : EDMI__ZERO;
+            work->ww[j].xt[i] = i == 0 ? sys->internal.wall_next[j] : EDMI__ZERO;
+        }
+#endif
+    for (i = 0; i < sys->internal.n_moving; i++) {
+        j = sys->internal.moving[i];
+        edmi__copy3(sys->link[j].anchor, work->lw[j].xs);
+        edmi__copy3(sys->internal.anchor_next[j], work->lw[j].xt);
+    }
+}
+
+/* The moving anchors and walls where the substep from pos to pos + units (of 2^k units of
+ * dt) starts and ends. */
+static void edmi__substep_place(edmi_system *sys, const edmi_workspace *work, int n_moving,
+                                int pos, int units, int k)
+{
+    int i, j;
+    sys->internal.n_moving = n_moving;
+    for (i = 0; i < n_moving; i++) {
+        j = sys->internal.moving[i];
+        edmi__anchor_at(&work->lw[j], pos, k, sys->link[j].anchor);
+        edmi__anchor_at(&work->lw[j], pos + units, k, sys->internal.anchor_next[j]);
+    }
+#if EDMI_MAX_WALLS > 0
+    for (j = 0; j < sys->n_walls; j++) {
+        edmi_real x[3];
+        edmi__anchor_at(&work->ww[j], pos, k, x);
+        sys->wall[j].c = x[0];
+        edmi__anchor_at(&work->ww[j], pos + units, k, x);
+        sys->internal.wall_next[j] = x[0];
+    }
+#endif
+}
+
 /* The failed step again as substeps (edmi_params.substep_levels = k): two of dt/2, a substep
  * that fails as two of half its size, down to dt/2^k, each taken, stored and certified as a
  * step; after a stored substep the next is as long as its start's alignment allows (a hard
@@ -5277,7 +5328,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     edmi__dw wx = edmi__dw_of(EDMI__ZERO), wa = edmi__dw_of(EDMI__ZERO);
     edmi_real tank0 = sys->tank, h;
     edmi_status st = cause;
-    int k = sys->params.substep_levels, n_moving = sys->internal.n_moving, level, pos = 0, a, i, j;
+    int k = sys->params.substep_levels, n_moving = sys->internal.n_moving, level, pos = 0, i, j;
     int iterations = res->iterations, halvings = res->halvings;
     edmi_real residual0 = res->residual0;
     for (h = dt, i = 0; i < k; i++) /* the finest substep stays a normal number */
@@ -5295,27 +5346,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
         edmi__store_forces(sys, work, 0);
         return EDMI_OK;
     }
-    work->kept = 0; /* the kept factors are of dt's matrix: substeps factor their own */
-    for (a = 0; a < sys->n_bodies; a++) {
-        edmi__copy3(sys->body[a].q, work->q0[a]);
-        edmi__copy3(sys->body[a].p, work->p0[a]);
-    }
-    for (j = 0; j < sys->n_links; j++)
-        for (i = 0; i < 3; i++)
-            work->lw[j].fsum[i] = EDMI__ZERO;
-#if EDMI_MAX_WALLS > 0
-    for (j = 0; j < EDMI__N_WALLS(sys); j++) /* and a wall's offsets, as an anchor's x */
-        for (i = 0; i < 3; i++) {
-            work->ww[j].fsum[i] = EDMI__ZERO;
-            work->ww[j].xs[i] = i == 0 ? sys->wall[j].c : EDMI__ZERO;
-            work->ww[j].xt[i] = i == 0 ? sys->internal.wall_next[j] : EDMI__ZERO;
-        }
-#endif
-    for (i = 0; i < n_moving; i++) {
-        j = sys->internal.moving[i];
-        edmi__copy3(sys->link[j].anchor, work->lw[j].xs);
-        edmi__copy3(sys->internal.anchor_next[j], work->lw[j].xt);
-    }
+    edmi__substeps_start(sys, work);
     edmi__clear_result(res);
     res->cause = cause;
     res->residual0 = residual0;
@@ -5323,21 +5354,7 @@ static edmi_status edmi__substeps(edmi_system *sys, edmi_workspace *work, edmi_r
     while (pos < (1 << k)) {
         int units = 1 << (k - level);
         edmi_real frac = (edmi_real)units / (edmi_real)(1L << k); /* a power of two */
-        sys->internal.n_moving = n_moving;
-        for (i = 0; i < n_moving; i++) {
-            j = sys->internal.moving[i];
-            edmi__anchor_at(&work->lw[j], pos, k, sys->link[j].anchor);
-            edmi__anchor_at(&work->lw[j], pos + units, k, sys->internal.anchor_next[j]);
-        }
-#if EDMI_MAX_WALLS > 0
-        for (j = 0; j < sys->n_walls; j++) {
-            edmi_real x[3];
-            edmi__anchor_at(&work->ww[j], pos, k, x);
-            sys->wall[j].c = x[0];
-            edmi__anchor_at(&work->ww[j], pos + units, k, x);
-            sys->internal.wall_next[j] = x[0];
-        }
-#endif
+        edmi__substep_place(sys, work, n_moving, pos, units, k);
         st = edmi__prepare_links(sys, work);
         if (st != EDMI_OK) { /* a substep's start the potentials refuse: no retry */
             edmi__restore(sys, work, tank0, n_moving);
