@@ -366,6 +366,33 @@ static void tf_range(void)
     CHECK_STATUS(st, EDMI_ERR_OVERFLOW);
     CHECK_STATUS(edmi_pot_divdiff(&lj, EDMI_R(1e-30), EDMI_R(1e-30), &dd, &dd1), EDMI_ERR_OVERFLOW);
     CHECK(dd == EDMI_R(-1.0) && dd1 == EDMI_R(-1.0));
+    /* Two bodies that far inside the wall: a start whose V overflows is an input refused
+     * (EDMI_ERR_RANGE: the fallback and substeps do not take it over, the system is
+     * unchanged), and the invariants asked of it overflow (EDMI_ERR_OVERFLOW) */
+    {
+        edmi_params pr2 = edmi_default_params();
+        edmi_real qa[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
+        edmi_real qb[3] = {EDMI_R(0.0), EDMI_R(0.0), EDMI_R(0.0)};
+        edmi_invariants inv;
+#if EDMI_PREC_(EDMI_REAL) == EDMI_DOUBLE_
+        qb[0] = EDMI_R(1e-30);
+#else
+        qb[0] = EDMI_R(1e-4);
+#endif
+        pr2.fallback = 1;
+        pr2.substep_levels = 3;
+        if (!th_skip(th_has_params(&pr2), "default scheme")) {
+            CHECK(edmi_init(&tf_sys, &pr2) == EDMI_OK &&
+                  edmi_add_body(&tf_sys, EDMI_R(1.0), qa, qa, 0) == EDMI_OK &&
+                  edmi_add_body(&tf_sys, EDMI_R(1.0), qb, qa, 0) == EDMI_OK &&
+                  edmi_add_pair(&tf_sys, 0, 1, &lj, 0) == EDMI_OK);
+            memcpy(&tf_snap, &tf_sys, sizeof tf_sys);
+            CHECK_STATUS(edmi_step(&tf_sys, &tf_work, EDMI_R(1e-3), &res), EDMI_ERR_RANGE);
+            CHECK(TF_UNCHANGED());
+            CHECK(res.stop == EDMI_STOP_CONVERGED && res.fallbacks == 0 && res.substeps == 0);
+            CHECK_STATUS(edmi_invariants_of(&tf_sys, &inv), EDMI_ERR_OVERFLOW);
+        }
+    }
 }
 
 /* 7. A user potential let the guard credit the tank with more than H fell: its V change,
@@ -434,7 +461,8 @@ static void tf_user_flip(void)
 /* 8. The fallback's contract broke with substeps (float): a body on a stiff harmonic link
  *    (k 0x1.8c31c6p+27, r0 0x1.58e0d6p-3) to an anchor at the origin that moves to
  *    (0, 0, -0x1.1c458ap-36) in the step, dt 0x1.bef82ep-4, PM with the fallback: with
- *    substep_levels 0 the step fell back (EDMI_OK), with 1 to 3 it returned EDMI_ERR_RANGE.
+ *    substep_levels 0 the step fell back (EDMI_OK), with 1 to 3 it returned EDMI_ERR_RANGE
+ *    (EDMI_ERR_OVERFLOW since 0.2.0).
  *    The first substep froze the body; the second, its momenta already 0 and the tank empty,
  *    found the frozen state's anchor work (an upper bound of the V change) no longer above
  *    the certificate's own margin, and failed where no failure is allowed. Now a frozen state
