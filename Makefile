@@ -143,9 +143,14 @@ run:
 	$(MAKE) --no-print-directory run-examples
 
 # ---- tests: the same sources in four configurations ------------------------------------------
-# tests/test_main.c is matched by test_*.c too; $(sort) removes the duplicate.
-TEST_SRC := $(sort tests/harness.c tests/host_io.c $(wildcard tests/test_*.c tests/scenes.c tests/passive.c))
-TEST_HDR := $(wildcard tests/*.h) examples/haptic_hand.h
+# The suites (tests/test_*.c) with the helpers shared by tests, benchmarks, port checks and the
+# simulator (tests/lib/, included by bare name: TEST_INC). test_obj names an object by its
+# source's base name, whichever of the two folders holds it.
+TEST_SRC := $(wildcard tests/test_*.c) tests/lib/harness.c tests/lib/host_io.c tests/lib/scenes.c \
+            tests/lib/passive.c
+TEST_HDR := $(wildcard tests/*.h tests/lib/*.h) examples/haptic_hand.h
+TEST_INC := -I. -Itests/lib
+test_obj = $(addprefix $(1)/,$(notdir $(patsubst %.c,%.o,$(2))))
 CONFIGS := double float double-san float-san
 real_of = $(firstword $(subst -, ,$(1)))
 # The suites run with walls compiled in (EDMI_MAX_WALLS, 0 by default), as edmi-sim and the
@@ -158,15 +163,17 @@ define test_config
 $(BUILD)/test-$(1)/edmi.o: edmi.c edmi.h | $(BUILD)/test-$(1)
 	$$(CC) $$(LIBFLAGS) $(call flags_of,$(1)) -DEDMI_REAL=$(call real_of,$(1)) -c $$< -o $$@
 $(BUILD)/test-$(1)/%.o: tests/%.c edmi.h $$(TEST_HDR) | $(BUILD)/test-$(1)
-	$$(CC) $$(STRICT) $(call flags_of,$(1)) -DEDMI_REAL=$(call real_of,$(1)) -c $$< -o $$@
+	$$(CC) $$(STRICT) $(call flags_of,$(1)) $$(TEST_INC) -DEDMI_REAL=$(call real_of,$(1)) -c $$< -o $$@
+$(BUILD)/test-$(1)/%.o: tests/lib/%.c edmi.h $$(TEST_HDR) | $(BUILD)/test-$(1)
+	$$(CC) $$(STRICT) $(call flags_of,$(1)) $$(TEST_INC) -DEDMI_REAL=$(call real_of,$(1)) -c $$< -o $$@
 $(BUILD)/test-$(1)/edmi_tests: $(BUILD)/test-$(1)/edmi.o \
-		$(patsubst tests/%.c,$(BUILD)/test-$(1)/%.o,$(TEST_SRC))
+		$(call test_obj,$(BUILD)/test-$(1),$(TEST_SRC))
 	$$(CC) $(call flags_of,$(1)) $$^ -o $$@ $$(LDLIBS)
 endef
 $(foreach c,$(CONFIGS),$(eval $(call test_config,$(c))))
 
 # Builds with features compiled out (edmi.h, EDMI_WITH_*): the same suite in both precisions,
-# skipping the cases that need what is out (tests/harness.h, th_skip). `make cross` prints
+# skipping the cases that need what is out (tests/lib/harness.h, th_skip). `make cross` prints
 # their flash (port/target.mk). decaying: the energy-safe schemes GE, PM, PT; coupling: one PM
 # virtual coupling (PM, harmonic links, anchors and moving anchors, the guard); conservative:
 # MP and LG without the guard.
@@ -183,15 +190,15 @@ $(BUILD)/feat-%/edmi_tests: $(TEST_SRC) $(TEST_HDR) edmi.c edmi.h
 	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(word 2,$(subst -, ,$*)) \
 	    $(FEAT_$(word 1,$(subst -, ,$*))) -c edmi.c -o $(@D)/edmi.o
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(word 2,$(subst -, ,$*)) \
-	    $(FEAT_$(word 1,$(subst -, ,$*))) -I. $(TEST_SRC) $(@D)/edmi.o -o $@ $(LDLIBS)
+	    $(FEAT_$(word 1,$(subst -, ,$*))) $(TEST_INC) $(TEST_SRC) $(@D)/edmi.o -o $@ $(LDLIBS)
 
 # Library checks: freestanding -Werror build in both precisions, symbol prefix and external
-# references (tests/check_lib.sh), and the header used from C++ (tests/cxx_header.cpp).
+# references (tests/scripts/check_lib.sh), and the header used from C++ (tests/programs/cxx_header.cpp).
 CHECK := $(BUILD)/check
 $(CHECK)/edmi-%.o: edmi.c edmi.h | $(CHECK)
 	$(CC) $(LIBFLAGS) -ffreestanding $(CFLAGS) -DEDMI_REAL=$* -c $< -o $@
-$(CHECK)/cxx_header-%.o: tests/cxx_header.cpp edmi.h | $(CHECK)
-	$(CXX) -std=c++11 -Wall -Wextra -Werror -DEDMI_REAL=$* -c $< -o $@
+$(CHECK)/cxx_header-%.o: tests/programs/cxx_header.cpp edmi.h | $(CHECK)
+	$(CXX) -std=c++11 -Wall -Wextra -Werror -DEDMI_REAL=$* -I. -c $< -o $@
 $(CHECK)/cxx_header-%: $(CHECK)/cxx_header-%.o $(CHECK)/edmi-%.o
 	$(CXX) $^ -o $@
 .SECONDARY: $(CHECK)/cxx_header-double.o $(CHECK)/cxx_header-float.o
@@ -204,41 +211,41 @@ CHECK_OBJS := $(CHECK)/edmi-double.o $(CHECK)/edmi-float.o \
               $(BUILD)/test-double/edmi.o $(BUILD)/test-float/edmi.o
 
 # The Newton matrix stored as a band (EDMI_MAX_MATRIX) against the dense store, bit for bit
-# (tests/band_store.c): 64 bodies, the band of a 63-body chain, under ASan+UBSan.
+# (tests/programs/band_store.c): 64 bodies, the band of a 63-body chain, under ASan+UBSan.
 BAND_CFG_dense := -DEDMI_MAX_BODIES=64 -DEDMI_MAX_LINKS=128
 BAND_CFG_narrow := $(BAND_CFG_dense) -DEDMI_MAX_MATRIX=3024 -DBAND_NARROW
 BAND_BINS := $(foreach r,double float,$(foreach v,dense narrow,$(BUILD)/band-$(r)-$(v)/band_store))
-$(BUILD)/band-%/band_store: tests/band_store.c edmi.c edmi.h
+$(BUILD)/band-%/band_store: tests/programs/band_store.c edmi.c edmi.h
 	mkdir -p $(@D)
 	$(CC) $(LIBFLAGS) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
 	    -DEDMI_REAL=$(word 1,$(subst -, ,$*)) $(BAND_CFG_$(word 2,$(subst -, ,$*))) -I. \
-	    tests/band_store.c edmi.c -o $@ $(LDLIBS)
-BAND_RUNS := $(foreach r,double float,'bash tests/band_check.sh $(BUILD)/band-$(r)-dense/band_store \
+	    tests/programs/band_store.c edmi.c -o $@ $(LDLIBS)
+BAND_RUNS := $(foreach r,double float,'bash tests/scripts/band_check.sh $(BUILD)/band-$(r)-dense/band_store \
              $(BUILD)/band-$(r)-narrow/band_store')
 
-# The general mass matrix (tests/mass_matrix.c with the harness and tests/passive.c; also on
+# The general mass matrix (tests/programs/mass_matrix.c with the harness and tests/lib/passive.c; also on
 # the emulated targets, port/target.mk): EDMI_MAX_MASS_GAP = 1, 8 bodies, the band store of a
 # chain (EDMI_MAX_MATRIX = 48 N), both precisions, under ASan+UBSan.
 MASS_CFG := -DEDMI_MAX_BODIES=8 -DEDMI_MAX_MATRIX=384 -DEDMI_MAX_MASS_GAP=1
-MASS_SRC := tests/mass_matrix.c tests/harness.c tests/passive.c
+MASS_SRC := tests/programs/mass_matrix.c tests/lib/harness.c tests/lib/passive.c
 MASS_BINS := $(BUILD)/mass-double/mass_matrix $(BUILD)/mass-float/mass_matrix
-$(BUILD)/mass-%/mass_matrix: $(MASS_SRC) tests/host_io.c tests/harness.h tests/passive.h edmi.c edmi.h
+$(BUILD)/mass-%/mass_matrix: $(MASS_SRC) tests/lib/host_io.c tests/lib/harness.h tests/lib/passive.h edmi.c edmi.h
 	mkdir -p $(@D)
 	$(CC) $(LIBFLAGS) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
-	    -DEDMI_REAL=$* $(MASS_CFG) -I. $(MASS_SRC) tests/host_io.c edmi.c -o $@ $(LDLIBS)
+	    -DEDMI_REAL=$* $(MASS_CFG) $(TEST_INC) $(MASS_SRC) tests/lib/host_io.c edmi.c -o $@ $(LDLIBS)
 
-# Consistent mass matrices that are definite but not diagonally dominant (tests/mass_spd.c: a
+# Consistent mass matrices that are definite but not diagonally dominant (tests/programs/mass_spd.c: a
 # triangle and a tetrahedron, every scheme, the guard's tank identity against a __float128
 # truth, refusals; also on the emulated targets, port/target.mk): EDMI_MAX_MASS_GAP = 3 over 4
 # bodies, so every pair may be coupled (the dense 12 x 12 Newton matrix fits the default
 # EDMI_MAX_MATRIX), both precisions, under ASan+UBSan.
 MASS_SPD_CFG := -DEDMI_MAX_BODIES=4 -DEDMI_MAX_MASS_GAP=3
-MASS_SPD_SRC := tests/mass_spd.c tests/harness.c
+MASS_SPD_SRC := tests/programs/mass_spd.c tests/lib/harness.c
 MASS_SPD_BINS := $(BUILD)/mass_spd-double/mass_spd $(BUILD)/mass_spd-float/mass_spd
-$(BUILD)/mass_spd-%/mass_spd: $(MASS_SPD_SRC) tests/host_io.c tests/harness.h edmi.c edmi.h
+$(BUILD)/mass_spd-%/mass_spd: $(MASS_SPD_SRC) tests/lib/host_io.c tests/lib/harness.h edmi.c edmi.h
 	mkdir -p $(@D)
 	$(CC) $(LIBFLAGS) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
-	    -DEDMI_REAL=$* $(MASS_SPD_CFG) -I. $(MASS_SPD_SRC) tests/host_io.c edmi.c -o $@ $(LDLIBS)
+	    -DEDMI_REAL=$* $(MASS_SPD_CFG) $(TEST_INC) $(MASS_SPD_SRC) tests/lib/host_io.c edmi.c -o $@ $(LDLIBS)
 
 # The worked user potential (examples/morse.c): its callbacks checked as the built-ins are, and
 # its runs' energy and momenta, in both precisions (morse --check).
@@ -251,24 +258,24 @@ $(BUILD)/morse-%/morse: examples/morse.c edmi.c edmi.h
 test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLAY_BINS) $(BAND_BINS) \
       $(MASS_BINS) $(MASS_SPD_BINS) $(FEAT_BINS) $(MORSE_BINS)
 	ASAN_OPTIONS=$${ASAN_OPTIONS:-detect_leaks=0} UBSAN_OPTIONS=$${UBSAN_OPTIONS:-print_stacktrace=1} \
-	bash tests/run_all.sh $(TEST_BINS) $(FEAT_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(SIM_REF_TESTS) \
+	bash tests/scripts/run_all.sh $(TEST_BINS) $(FEAT_BINS) $(CXX_BINS) '$(SIM_TEST) $(SIM_SCENES)' $(SIM_REF_TESTS) \
 	    $(BAND_RUNS) $(MASS_BINS) $(MASS_SPD_BINS) $(foreach b,$(MORSE_BINS),'$(b) --check') \
 	    $(foreach b,$(REPLAY_BINS),'$(b) tests/fuzz/corpus') \
-	    $(foreach o,$(CHECK_OBJS),'bash tests/check_lib.sh "$(NM)" "$(CC)" $(o)') \
-	    'bash tests/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/check_flags.sh clang') \
-	    'bash tests/check_help.sh' 'bash tests/check_docs.sh'
+	    $(foreach o,$(CHECK_OBJS),'bash tests/scripts/check_lib.sh "$(NM)" "$(CC)" $(o)') \
+	    'bash tests/scripts/check_flags.sh "$(CC)"' $(if $(shell command -v clang),'bash tests/scripts/check_flags.sh clang') \
+	    'bash tests/scripts/check_help.sh' 'bash tests/scripts/check_docs.sh'
 
 # ---- soak: the guard's adversarial scenes for 10^6 steps per case, in both precisions ---------
-# tests/soak.c; the inequality H_n+1 - H_n <= W is checked after every step in tp_q
-# (tests/passive.c: __float128 on the x86-64 host, no libquadmath).
+# tests/programs/soak.c; the inequality H_n+1 - H_n <= W is checked after every step in tp_q
+# (tests/lib/passive.c: __float128 on the x86-64 host, no libquadmath).
 SOAK_STEPS ?= 1000000
-SOAK_SRC := tests/soak.c tests/passive.c tests/harness.c tests/host_io.c
-$(BUILD)/soak-%/soak: $(SOAK_SRC) tests/passive.h tests/harness.h examples/haptic_hand.h edmi.c edmi.h
+SOAK_SRC := tests/programs/soak.c tests/lib/passive.c tests/lib/harness.c tests/lib/host_io.c
+$(BUILD)/soak-%/soak: $(SOAK_SRC) tests/lib/passive.h tests/lib/harness.h examples/haptic_hand.h edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* $(SOAK_SRC) edmi.c -o $@ $(LDLIBS)
+	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* $(TEST_INC) $(SOAK_SRC) edmi.c -o $@ $(LDLIBS)
 
 soak: $(BUILD)/soak-float/soak $(BUILD)/soak-double/soak
-	bash tests/run_all.sh -p '$(BUILD)/soak-float/soak $(SOAK_STEPS)' \
+	bash tests/scripts/run_all.sh -p '$(BUILD)/soak-float/soak $(SOAK_STEPS)' \
 	    '$(BUILD)/soak-double/soak $(SOAK_STEPS)'
 
 # ---- fuzz: every public function under libFuzzer, both precisions (tests/fuzz/) -------------
@@ -284,9 +291,9 @@ FUZZ_TIME ?= 60
 # 1 (18 rows of 16): the band layout and its refusals are fuzzed too.
 FUZZ_CAP := -DEDMI_MAX_BODIES=6 -DEDMI_MAX_LINKS=12 -DEDMI_MAX_DAMPERS=4 -DEDMI_MAX_MATRIX=300 \
             -DEDMI_MAX_MASS_GAP=2 -DEDMI_MAX_WALLS=3
-FUZZ_FLAGS := -std=c99 -g -ffp-contract=off -fno-math-errno $(FUZZ_CAP)
-FUZZ_SRC := edmi.c tests/passive.c tests/fuzz/fuzz_api.c
-FUZZ_DEPS := $(FUZZ_SRC) edmi.h tests/passive.h
+FUZZ_FLAGS := -std=c99 -g -ffp-contract=off -fno-math-errno $(FUZZ_CAP) -I. -Itests/lib
+FUZZ_SRC := edmi.c tests/lib/passive.c tests/fuzz/fuzz_api.c
+FUZZ_DEPS := $(FUZZ_SRC) edmi.h tests/lib/passive.h
 $(BUILD)/fuzz-%/fuzz: $(FUZZ_DEPS)
 	mkdir -p $(@D)
 	$(CLANG) $(FUZZ_FLAGS) -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
@@ -301,7 +308,7 @@ $(BUILD)/fuzz-coupling-%/fuzz: $(FUZZ_DEPS)
 
 fuzz: $(foreach r,double float,$(BUILD)/fuzz-$(r)/fuzz $(BUILD)/fuzz-coupling-$(r)/fuzz)
 	EDMI_TEST_TIMEOUT=$$(($(FUZZ_TIME) + 300)) \
-	bash tests/run_all.sh 'bash tests/fuzz/run.sh $(FUZZ_TIME) $(BUILD) double float' \
+	bash tests/scripts/run_all.sh 'bash tests/fuzz/run.sh $(FUZZ_TIME) $(BUILD) double float' \
 	    'bash tests/fuzz/run.sh $$(($(FUZZ_TIME) / 4)) $(BUILD) coupling-double coupling-float'
 
 $(BUILD)/replay-%/replay: $(FUZZ_DEPS) tests/fuzz/replay.c
@@ -335,10 +342,10 @@ $(BUILD)/cross/edmi.o: edmi.c edmi.h | $(BUILD)/cross
 cross: $(BUILD)/cross/edmi.o
 	$(ARM_SIZE) $<
 
-# ---- cmake-check: edmi through CMake, host and Cortex-M4F (tests/cmake_check.sh) --------------
+# ---- cmake-check: edmi through CMake, host and Cortex-M4F (tests/scripts/cmake_check.sh) --------------
 .PHONY: cmake-check
 cmake-check:
-	bash tests/cmake_check.sh $(BUILD)
+	bash tests/scripts/cmake_check.sh $(BUILD)
 
 # ---- housekeeping ----------------------------------------------------------------------------
 $(HOST) $(CHECK) $(BUILD)/cross $(foreach c,$(CONFIGS),$(BUILD)/test-$(c)):

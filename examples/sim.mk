@@ -9,19 +9,19 @@
 #                       2 cores); SIM_FULL=1 adds the ten-body tol_Q study (6 more long runs)
 #   make plots          CSV traces into $(BUILD)/plots, PNGs into examples/figures (gnuplot);
 #                       SIM_FULL=1 adds the ten-body tol_Q study figure
-#   make bench          examples/bench_solver.c with 128 bodies and 8192 links: cost vs links
-#                       (wall time), then examples/bench_cost.sh: callgrind instructions per
+#   make bench          tests/bench/bench_solver.c with 128 bodies and 8192 links: cost vs links
+#                       (wall time), then tests/bench/bench_cost.sh: callgrind instructions per
 #                       step, per correction and per link, and against velocity Verlet
 #   make bench-profile  where a step's instructions go: phases and functions, callgrind
-#   make guard-cost     the passivity guard's host cost, callgrind (examples/guard_cost.c)
-#   make orbits         does the guard steer conservative orbits? examples/orbits.c in both
+#   make guard-cost     the passivity guard's host cost, callgrind (tests/bench/guard_cost.c)
+#   make orbits         does the guard steer conservative orbits? tests/bench/orbits.c in both
 #                       precisions: PM with and without its guard, MP and LG on circular LJ
 #                       and gravity orbits, drifts of H, J and r against a long-double truth;
 #                       one markdown table (about 30 s on one core)
-#   make study          what accuracy costs in time (examples/study/): every scheme, velocity
+#   make study          what accuracy costs in time (tests/bench/study/): every scheme, velocity
 #                       Verlet, semi-implicit Euler and GSL's rk2imp, rk4imp and rk4 on five
 #                       scenes; errors against a converged reference, callgrind instructions,
-#                       wall time; tables into examples/study/RESULTS.md, figures
+#                       wall time; tables into tests/bench/study/RESULTS.md, figures
 #                       examples/figures/study_*.png. STUDY_QUICK=1: the CI subset (two
 #                       scenes, three dt's; its tables and figures stay in build/study-quick/)
 #   make haptic         examples/haptic.c, the 1 kHz virtual coupling: its table, the CSV
@@ -62,13 +62,13 @@ $(HOST)/sim_scene.o: $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h edmi.h | $(HOST)
 $(HOST)/sim_edmi.o: edmi.c edmi.h | $(HOST)
 	$(CC) $(LIBFLAGS) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -c $< -o $@
 
-# edmi-sim checks H of every stored state with tests/passive.c (the soak's check, independent
+# edmi-sim checks H of every stored state with tests/lib/passive.c (the soak's check, independent
 # of the library's arithmetic) for its "H steps" line and --h-check: in double-word arithmetic
 # where its error bound decides, in tp_q (__float128) where it does not.
-SIM_PASSIVE := tests/passive.c tests/passive.h examples/haptic_hand.h
+SIM_PASSIVE := tests/lib/passive.c tests/lib/passive.h examples/haptic_hand.h
 $(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o \
 		$(SIM_PASSIVE) edmi.h | $(HOST)
-	$(CC) $(STRICT) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -I. $< tests/passive.c \
+	$(CC) $(STRICT) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -I. -Itests/lib $< tests/lib/passive.c \
 	    $(HOST)/sim_scene.o $(HOST)/sim_edmi.o -o $@ $(LDLIBS)
 
 $(SIM_TEST): $(SIM_SRC)/test_scene.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o edmi.h | $(HOST)
@@ -84,20 +84,20 @@ SIM_REF_BINS := $(BUILD)/simref/double/edmi-sim $(BUILD)/simref/float/edmi-sim \
 $(BUILD)/simref/%/edmi-sim: $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h \
 		$(SIM_PASSIVE) edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* $(SIM_CAP) -I. $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c \
-	    tests/passive.c edmi.c \
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* $(SIM_CAP) -I. -Itests/lib $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.c \
+	    tests/lib/passive.c edmi.c \
 	    -o $@ $(LDLIBS)
 $(BUILD)/simref/%/test_hcheck: $(SIM_SRC)/test_hcheck.c $(SIM_SRC)/scene.c $(SIM_SRC)/scene.h \
 		$(SIM_PASSIVE) edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* $(SIM_CAP) -I. $(SIM_SRC)/test_hcheck.c $(SIM_SRC)/scene.c \
-	    tests/passive.c edmi.c -o $@ $(LDLIBS)
+	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$* $(SIM_CAP) -I. -Itests/lib $(SIM_SRC)/test_hcheck.c $(SIM_SRC)/scene.c \
+	    tests/lib/passive.c edmi.c -o $@ $(LDLIBS)
 SIM_REF_TESTS := $(foreach r,double float,'$(BUILD)/simref/$(r)/test_hcheck examples/scenes') \
                  $(foreach r,double float,'bash $(SIM_SRC)/test_ref.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
                  $(foreach r,double float,'bash $(SIM_SRC)/test_summary.sh $(BUILD)/simref/$(r)/edmi-sim examples/scenes $(r)') \
                  'bash $(SIM_SRC)/test_emit.sh $(BUILD)/simref/double/edmi-sim "$(CC)"'
 
-# Last line: "N passed, N failed" (tests/run_all.sh can take "$(SIM_TEST) $(SIM_SCENES)").
+# Last line: "N passed, N failed" (tests/scripts/run_all.sh can take "$(SIM_TEST) $(SIM_SCENES)").
 test-scene: $(SIM_TEST)
 	$(SIM_TEST) $(SIM_SCENES)
 
@@ -108,7 +108,7 @@ plots: $(SIM_BIN) $(HOST)/haptic
 	SIM_FULL=$(SIM_FULL) HAPTIC=$(HOST)/haptic HAPTIC_REAL=$(EDMI_REAL) \
 	    bash examples/plots/make_plots.sh $(SIM_BIN) $(SIM_PLOTS) $(SIM_FIGURES) $(SIM_JOBS)
 
-# The haptic example shares its trajectory with port/haptic_target.c.
+# The haptic example shares its trajectory with tests/bench/haptic_target.c.
 $(HOST)/haptic: examples/haptic_hand.h
 
 haptic: $(HOST)/haptic
@@ -152,29 +152,29 @@ $(SIM_BENCH):
 	mkdir -p $@
 $(SIM_BENCH)/edmi.o: edmi.c edmi.h | $(SIM_BENCH)
 	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) $(SIM_BENCH_CAP) -c $< -o $@
-$(SIM_BENCH)/bench_solver: examples/bench_solver.c $(SIM_BENCH)/edmi.o edmi.h
+$(SIM_BENCH)/bench_solver: tests/bench/bench_solver.c $(SIM_BENCH)/edmi.o edmi.h
 	$(CC) $(STRICT) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) $(SIM_BENCH_CAP) -I. $< $(SIM_BENCH)/edmi.o -o $@ $(LDLIBS)
 
-# The callgrind cost table (examples/bench_cost.sh): both precisions, -O2, the same
-# capacities, each case a separate run of examples/bench_cost.c.
+# The callgrind cost table (tests/bench/bench_cost.sh): both precisions, -O2, the same
+# capacities, each case a separate run of tests/bench/bench_cost.c.
 BC_DIR := $(BUILD)/bench-cost
-$(BC_DIR)/bench_cost-%: examples/bench_cost.c port/bench_scenes.h edmi.c edmi.h
+$(BC_DIR)/bench_cost-%: tests/bench/bench_cost.c tests/lib/bench_scenes.h edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) -O2 -g -DEDMI_REAL=$* $(SIM_BENCH_CAP) -I. examples/bench_cost.c edmi.c -o $@ $(LDLIBS)
+	$(CC) $(STRICT) -O2 -g -DEDMI_REAL=$* $(SIM_BENCH_CAP) -I. -Itests/lib tests/bench/bench_cost.c edmi.c -o $@ $(LDLIBS)
 
 bench: $(SIM_BENCH)/bench_solver $(BC_DIR)/bench_cost-float $(BC_DIR)/bench_cost-double
 	$(SIM_BENCH)/bench_solver
-	@sh examples/bench_cost.sh $(BC_DIR)
+	@sh tests/bench/bench_cost.sh $(BC_DIR)
 
-# Where a step's instructions go: phases and functions per step (examples/bench_profile.sh).
+# Where a step's instructions go: phases and functions per step (tests/bench/bench_profile.sh).
 bench-profile: $(BC_DIR)/bench_cost-float $(BC_DIR)/bench_cost-double
-	@sh examples/bench_profile.sh $(BC_DIR)
+	@sh tests/bench/bench_profile.sh $(BC_DIR)
 
-# The passivity guard's cost on the host: callgrind instructions per step (examples/guard_cost.c).
+# The passivity guard's cost on the host: callgrind instructions per step (tests/bench/guard_cost.c).
 GC_DIR := $(BUILD)/guard-cost
-$(GC_DIR)/guard_cost-%: examples/guard_cost.c edmi.c edmi.h
+$(GC_DIR)/guard_cost-%: tests/bench/guard_cost.c edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) -O2 -g -fno-ipa-icf -DEDMI_REAL=$* -I. examples/guard_cost.c edmi.c -o $@ $(LDLIBS)
+	$(CC) $(STRICT) -O2 -g -fno-ipa-icf -DEDMI_REAL=$* -I. tests/bench/guard_cost.c edmi.c -o $@ $(LDLIBS)
 
 guard-cost: $(GC_DIR)/guard_cost-float $(GC_DIR)/guard_cost-double
 	@for r in float double; do \
@@ -191,21 +191,21 @@ guard-cost: $(GC_DIR)/guard_cost-float $(GC_DIR)/guard_cost-double
 	        r, ro/2000, rf/2000}'; \
 	done
 
-# The guard on conservative orbits (examples/orbits.c): both precisions at -O2 against edmi.c,
+# The guard on conservative orbits (tests/bench/orbits.c): both precisions at -O2 against edmi.c,
 # one table (the float rows, then the double rows).
 ORB_DIR := $(BUILD)/orbits
-$(ORB_DIR)/orbits-%: examples/orbits.c edmi.c edmi.h
+$(ORB_DIR)/orbits-%: tests/bench/orbits.c edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* -I. examples/orbits.c edmi.c -o $@ $(LDLIBS)
+	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* -I. tests/bench/orbits.c edmi.c -o $@ $(LDLIBS)
 
 orbits: $(ORB_DIR)/orbits-float $(ORB_DIR)/orbits-double
 	$(ORB_DIR)/orbits-float
 	$(ORB_DIR)/orbits-double --no-header
 
-# ---- the work-precision study (examples/study/) ----------------------------------------------
+# ---- the work-precision study (tests/bench/study/) ----------------------------------------------
 # GSL (Debian: libgsl-dev) for its odeiv2 steppers and the reference; valgrind; gnuplot.
 STUDY := $(BUILD)/study
-STUDY_SRC := examples/study/study.c $(SIM_SRC)/scene.c edmi.c
+STUDY_SRC := tests/bench/study/study.c $(SIM_SRC)/scene.c edmi.c
 STUDY_QUICK ?= 0
 $(STUDY)/study-double: $(STUDY_SRC) $(SIM_SRC)/scene.h edmi.h
 	mkdir -p $(@D)
@@ -220,5 +220,5 @@ study: $(STUDY)/study-double $(STUDY)/study-float
 	mkdir -p $(STUDY_OUT)
 	$(MAKE) --no-print-directory study-target > $(STUDY_OUT)/m4f.log 2>&1 || \
 	    { cat $(STUDY_OUT)/m4f.log; exit 1; }
-	STUDY_QUICK=$(STUDY_QUICK) bash examples/study/run_study.sh $^ $(STUDY_OUT) \
+	STUDY_QUICK=$(STUDY_QUICK) bash tests/bench/study/run_study.sh $^ $(STUDY_OUT) \
 	    $(if $(filter 1,$(STUDY_QUICK)),$(STUDY_OUT)/figures,$(SIM_FIGURES)) $(SIM_JOBS)
