@@ -148,7 +148,7 @@ run:
 # source's base name, whichever of the two folders holds it.
 TEST_SRC := $(wildcard tests/test_*.c) tests/lib/harness.c tests/lib/host_io.c tests/lib/scenes.c \
             tests/lib/passive.c
-TEST_HDR := $(wildcard tests/*.h tests/lib/*.h) examples/haptic_hand.h
+TEST_HDR := $(wildcard tests/*.h tests/lib/*.h)
 TEST_INC := -I. -Itests/lib
 test_obj = $(addprefix $(1)/,$(notdir $(patsubst %.c,%.o,$(2))))
 CONFIGS := double float double-san float-san
@@ -270,7 +270,7 @@ test: $(TEST_BINS) $(CXX_BINS) $(CHECK_OBJS) $(SIM_TEST) $(SIM_REF_BINS) $(REPLA
 # (tests/lib/passive.c: __float128 on the x86-64 host, no libquadmath).
 SOAK_STEPS ?= 1000000
 SOAK_SRC := tests/programs/soak.c tests/lib/passive.c tests/lib/harness.c tests/lib/host_io.c
-$(BUILD)/soak-%/soak: $(SOAK_SRC) tests/lib/passive.h tests/lib/harness.h examples/haptic_hand.h edmi.c edmi.h
+$(BUILD)/soak-%/soak: $(SOAK_SRC) tests/lib/passive.h tests/lib/harness.h edmi.c edmi.h
 	mkdir -p $(@D)
 	$(CC) $(STRICT) -O2 -DEDMI_REAL=$* $(TEST_INC) $(SOAK_SRC) edmi.c -o $@ $(LDLIBS)
 

@@ -65,7 +65,7 @@ $(HOST)/sim_edmi.o: edmi.c edmi.h | $(HOST)
 # edmi-sim checks H of every stored state with tests/lib/passive.c (the soak's check, independent
 # of the library's arithmetic) for its "H steps" line and --h-check: in double-word arithmetic
 # where its error bound decides, in tp_q (__float128) where it does not.
-SIM_PASSIVE := tests/lib/passive.c tests/lib/passive.h examples/haptic_hand.h
+SIM_PASSIVE := tests/lib/passive.c tests/lib/passive.h
 $(SIM_BIN): $(SIM_SRC)/edmi_sim.c $(SIM_SRC)/scene.h $(HOST)/sim_scene.o $(HOST)/sim_edmi.o \
 		$(SIM_PASSIVE) edmi.h | $(HOST)
 	$(CC) $(STRICT) $(CFLAGS) $(SIM_OPT) -DEDMI_REAL=$(EDMI_REAL) $(SIM_CAP) -I. -Itests/lib $< tests/lib/passive.c \

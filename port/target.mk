@@ -206,7 +206,7 @@ TGT_LD := port/cortex-m/mps2.ld
 TGT_PORT_HDR := $(wildcard port/cortex-m/*.h)
 TGT_TEST_SRC = $(wildcard tests/test_*.c) tests/lib/harness.c tests/lib/target_io.c tests/lib/scenes.c \
                tests/lib/passive.c
-TGT_TEST_HDR = $(wildcard tests/*.h tests/lib/*.h) examples/haptic_hand.h
+TGT_TEST_HDR = $(wildcard tests/*.h tests/lib/*.h)
 # Tests and benchmarks include edmi.h, the shared helpers of tests/lib and the port's
 # cortex-m/*.h by bare name.
 TGT_INC := -I. -Itests/lib -Iport

@@ -34,8 +34,6 @@
 #include <fenv.h>
 #endif
 
-#include "../../examples/haptic_hand.h" /* hh_sin: a sine without libm */
-
 /* ---- the check's arithmetic: tp_q -----------------------------------------------------------
  * __float128 where GCC or clang offers it on x86-64 with an x87 long double (the seed of
  * tp_sqrtq, and a range as wide as binary128's: 2^-16382 is both types' smallest normal);
@@ -1058,14 +1056,35 @@ static edmi_real tp_rand(void)
     return (edmi_real)((long)(tp_seed >> 8) - 0x800000L) / (edmi_real)0x800000L;
 }
 
+/* sin x for the hand below, without libm. This file's own: tests/lib is shared by tests,
+ * benchmarks and the simulator and includes nothing from examples/ (issue 33), so it does not
+ * borrow the haptic example's sine. x is reduced by the nearest whole number k of half turns
+ * to r = x - k pi in [-pi/2, pi/2], where sin x = (-1)^k sin r; sin r is the odd series
+ * r (1 - r^2/(2 3) (1 - r^2/(4 5) (1 - ...))) to the r^21 term, nested from the inside
+ * (truncation below 3e-16 at pi/2). The hand needs a smooth, reproducible path, not the last
+ * bit; the checks on it are inequalities, not a stored trajectory. */
+static edmi_real tp_sin(edmi_real x)
+{
+    static const edmi_real pi = EDMI_R(3.14159265358979323846);
+    edmi_real h = x / pi, r, r2, s = 1;
+    long k = (long)(h < 0 ? h - EDMI_R(0.5) : h + EDMI_R(0.5));
+    int i;
+    r = x - (edmi_real)k * pi;
+    r2 = r * r;
+    for (i = 21; i > 1; i -= 2)
+        s = 1 - r2 / (edmi_real)((i - 1) * i) * s;
+    s *= r;
+    return (k % 2 != 0) ? -s : s;
+}
+
 /* The hand of TP_COUPLING at time t: through the origin (where the body starts) at t = 0,
  * 20-60 mm excursions at 1, 3 and 7 Hz. */
 static void tp_hand(edmi_real t, edmi_real x[3])
 {
     static const edmi_real w = EDMI_R(6.283185307179586);
-    x[0] = EDMI_R(0.05) * hh_sin(w * t) + EDMI_R(0.02) * hh_sin(EDMI_R(7.0) * w * t);
-    x[1] = EDMI_R(0.03) * hh_sin(EDMI_R(3.0) * w * t);
-    x[2] = EDMI_R(0.01) * hh_sin(EDMI_R(2.0) * w * t);
+    x[0] = EDMI_R(0.05) * tp_sin(w * t) + EDMI_R(0.02) * tp_sin(EDMI_R(7.0) * w * t);
+    x[1] = EDMI_R(0.03) * tp_sin(EDMI_R(3.0) * w * t);
+    x[2] = EDMI_R(0.01) * tp_sin(EDMI_R(2.0) * w * t);
 }
 
 static edmi_status tp_body(edmi_system *sys, edmi_real m, edmi_real x, edmi_real y, edmi_real z,
