@@ -54,6 +54,10 @@
 #> make soak            8 min
 #>     the guard's adversarial scenes, 10^6 steps per case, both precisions (SOAK_STEPS=N for
 #>     fewer)
+#> make hard            3 min
+#>     issue 21's hard cases measured (tests/bench/hard/): Lennard-Jones wall, coupled masses with
+#>     the fallback, a user spring, a flipping port; both precisions, three runs each, tables
+#>     into build/hard/
 #> make refs            2 s
 #>     regenerate tests/ref_track.h, the double reference the float suite tracks, after a
 #>     change that moves results
@@ -125,8 +129,10 @@ EXAMPLES := $(patsubst examples/%.c,$(HOST)/%,$(wildcard examples/*.c))
 
 all: $(HOST)/edmi.o $(EXAMPLES)
 
-# Scenes, edmi-sim, the paper's examples, plots, bench (examples/sim.mk).
+# Scenes, edmi-sim, the paper's examples, plots (examples/sim.mk); the host benchmarks, the
+# study and the hard cases (tests/bench/bench.mk, which uses sim.mk's names).
 include examples/sim.mk
+include tests/bench/bench.mk
 
 $(HOST)/edmi.o: edmi.c edmi.h | $(HOST)
 	$(CC) $(LIBFLAGS) $(CFLAGS) -DEDMI_REAL=$(EDMI_REAL) -c edmi.c -o $@

@@ -2,7 +2,7 @@
 # The host cost table of `make bench`: instructions per step under callgrind (deterministic,
 # unlike wall time), per Newton correction and per link, with a velocity-Verlet step of the
 # same system counted in the same run. Usage: bench_cost.sh BUILD_DIR (holding bench_cost-float
-# and bench_cost-double, built by examples/sim.mk). Each case is one run of
+# and bench_cost-double, built by tests/bench/bench.mk). Each case is one run of
 # tests/bench/bench_cost.c under valgrind --tool=callgrind --toggle-collect=bc_run.
 set -e
 if [ "$1" = --one ]; then # one run: --one DIR precision scene method n steps

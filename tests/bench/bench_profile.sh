@@ -4,7 +4,7 @@
 # (PM, 2,000 steps) and 10 bodies with all 45 pairs (PM, 2,000 steps), both precisions.
 # First the step's phases (inclusive counts: everything a phase calls), then the functions
 # with the largest own counts. Usage: bench_profile.sh BUILD_DIR (holding bench_cost-float
-# and bench_cost-double, built by examples/sim.mk).
+# and bench_cost-double, built by tests/bench/bench.mk).
 set -e
 dir=$1
 out=$dir/profile

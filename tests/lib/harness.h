@@ -1,4 +1,12 @@
-/* edmi test harness: CHECK / CHECK_NEAR with file:line reports, closing "N passed, N failed".
+/* tests/lib/ is the one place for helpers shared across the tree: this harness (with host_io.c
+ * and target_io.c), scenes.c/.h, passive.c/.h (the exact-H check) and bench_scenes.h. Its users:
+ * the suites (tests/test_*.c), the standalone programs (tests/programs/), the benchmarks
+ * (tests/bench/), the fuzzer (tests/fuzz/), the QEMU runner's self-test (port/smoke_test.c) and
+ * edmi-sim's energy check (examples/sim/). They include these headers by bare name with
+ * -Itests/lib on the compile line, never by a ../ path; tests/lib includes nothing from
+ * examples/ or from other folders' private files.
+ *
+ * edmi test harness: CHECK / CHECK_NEAR with file:line reports, closing "N passed, N failed".
  * Every character goes through th_putchar(), which the platform file supplies (host_io.c on
  * the host, the semihosting glue on an emulated target), so the same test sources run both. */
 #ifndef EDMI_TEST_HARNESS_H

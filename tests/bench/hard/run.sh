@@ -7,7 +7,8 @@
 # into substeps, and the residual at every stored, solved state against the terms'
 # magnitudes (hard_common.h). Three runs each: as built (out/*.k0.txt), with 3 levels of
 # substeps (HC_SUBSTEPS=3: *.k3.txt) and with the fallback too (HC_FB=1: *.k3fb.txt).
-# Usage: sh tests/bench/hard/run.sh [outdir]   (from the repository root; ~3 minutes on one core)
+# Usage: sh tests/bench/hard/run.sh [outdir]   (from the repository root; `make hard` runs it with
+# outdir $(BUILD)/hard)
 set -e
 out=${1:-/tmp/hard}
 mkdir -p "$out"
