@@ -334,7 +334,7 @@ fuzz-cov: $(BUILD)/fuzzcov-double/replay $(BUILD)/fuzzcov-float/replay
 # fails while the checked-in table is stale.
 $(BUILD)/gen_ref: tests/gen_ref.c edmi.c edmi.h
 	mkdir -p $(@D)
-	$(CC) $(STRICT) -O2 -DEDMI_REAL=double tests/gen_ref.c edmi.c -o $@ $(LDLIBS)
+	$(CC) $(STRICT) -O2 -DEDMI_REAL=double -I. tests/gen_ref.c edmi.c -o $@ $(LDLIBS)
 
 refs: $(BUILD)/gen_ref
 	$(BUILD)/gen_ref > tests/ref_track.h

@@ -15,7 +15,7 @@
 #ifndef EDMI_HAPTIC_HAND_H
 #define EDMI_HAPTIC_HAND_H
 
-#include "../edmi.h"
+#include "edmi.h"
 
 #define HH_MASS EDMI_R(0.1)         /* tool mass [kg] */
 #define HH_STIFFNESS EDMI_R(3000.0) /* coupling spring [N/m]: 3 N/mm */

@@ -115,7 +115,7 @@ $(TGT)/cross-$(1)/edmi.o: edmi.c edmi.h
 $(TGT)/cross-$(1)/fw_min.o: port/fw_min.c edmi.h
 	@mkdir -p $$(@D)
 	$$(TGT_CC_$(call tgt_arch,$(1))) $$(LIBFLAGS) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
-	    $$(TGT_LIB_OPT) -DEDMI_REAL=$(call tgt_real,$(1)) -c $$< -o $$@
+	    $$(TGT_LIB_OPT) -DEDMI_REAL=$(call tgt_real,$(1)) -I. -c $$< -o $$@
 $(TGT)/cross-$(1)/fw_min.elf: $(TGT)/cross-$(1)/fw_min.o $(TGT)/cross-$(1)/edmi.o \
 		$$(TGT_FWPORT_$(call tgt_arch,$(1)))
 	$$(TGT_CC_$(call tgt_arch,$(1))) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
@@ -141,7 +141,7 @@ $(TGT)/cap-$(1)/$(2)/edmi.o: edmi.c edmi.h
 $(TGT)/cap-$(1)/$(2)/ramsize.o: port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
 	$$(TGT_CC_$(call tgt_arch,$(1))) $$(STRICT) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
-	    -DTGT_RAMCHECK_SIZES_ONLY -DEDMI_REAL=$(call tgt_real,$(1)) $(call tgt_capdefs,$(2)) \
+	    -DTGT_RAMCHECK_SIZES_ONLY -DEDMI_REAL=$(call tgt_real,$(1)) $(call tgt_capdefs,$(2)) -I. \
 	    -c $$< -o $$@
 endef
 $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),$(eval $(call tgt_cap_rules,$(p),$(c)))))
@@ -428,14 +428,14 @@ TGT_RAM_CROSS := $(foreach a,m4f rv32imac,$(foreach r,float double,$(foreach c,$
 define tgt_ram_rules
 $(TGT)/ramcheck/$(1)-$(2): port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
-	$$(CC) $$(STRICT) -Werror -O2 -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) $$< -o $$@
+	$$(CC) $$(STRICT) -Werror -O2 -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) -I. $$< -o $$@
 $(TGT)/ramcheck/m4f-$(1)-$(2).o: port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_m4f) -DTGT_RAMCHECK_NO_MAIN -DEDMI_REAL=$(1) \
+	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_m4f) -DTGT_RAMCHECK_NO_MAIN -DEDMI_REAL=$(1) -I. \
 	    $(call tgt_capdefs,$(2)) -c $$< -o $$@
 $(TGT)/ramcheck/rv32imac-$(1)-$(2).o: port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
-	$$(TGT_RV_CC) $$(STRICT) -Werror $$(TGT_FLAGS_rv32imac) -DTGT_RAMCHECK_NO_MAIN \
+	$$(TGT_RV_CC) $$(STRICT) -Werror $$(TGT_FLAGS_rv32imac) -DTGT_RAMCHECK_NO_MAIN -I. \
 	    -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) -c $$< -o $$@
 endef
 $(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),$(eval $(call tgt_ram_rules,$(r),$(c)))))

@@ -13,7 +13,12 @@
 #     Cortex-M4F figure of README's sizing table (16 / 64 / 16);
 #  6. docs/simulator.md's float figures for the spring are what build/float/edmi-sim prints,
 #     and edmi-sim names an unknown option in one line;
-#  7. no page or example says that H never grows (it may, within the tank).
+#  7. no page or example says that H never grows (it may, within the tank);
+#  8. every file path README.md and docs/*.md name under tests/, examples/, port/ or docs/
+#     exists (globs such as tests/test_*.c and build/ paths are not checked);
+#  9. no source in tests/, examples/ or port/ includes a file by a ../ path (issue 33: a folder
+#     does not reach into another's files; shared helpers are in tests/lib/, found with
+#     -Itests/lib, and edmi.h with -I.).
 # Last line: "N passed, N failed".
 set -u
 pass=0 fail=0
@@ -125,6 +130,27 @@ if grep -rn "never grows" README.md docs/*.md examples/*.c >"$tmp/grows"; then
     bad "'never grows' (H may rise within the tank): $(head -2 "$tmp/grows")"
 else
     ok "no page or example says H never grows"
+fi
+
+# 8. File paths named in the text (links are 4.): tests/..., examples/..., port/..., docs/...
+for f in README.md docs/*.md; do
+    grep -oE '(^|[^A-Za-z0-9_.-])(tests|examples|port|docs)/[A-Za-z0-9_./*{},+-]*' "$f" |
+        sed -E 's/^[^a-z]//; s/[.,]+$//' | grep -v '[*{}]' | sort -u |
+        while IFS= read -r path; do
+            if [ -e "$path" ]; then echo ok; else echo "FAIL $f names $path, which does not exist"; fi
+        done
+done >"$tmp/paths"
+np=$(grep -c '^ok$' "$tmp/paths"); npb=$(grep -c '^FAIL' "$tmp/paths")
+grep '^FAIL' "$tmp/paths"
+if [ "$npb" -eq 0 ]; then ok "the $np file paths named in README.md and docs/ exist"; else fail=$((fail + npb)); fi
+
+# 9. No #include "../...": each folder includes only its own files, the shared tests/lib/ and
+#    edmi.h, by bare name.
+if grep -rn --include='*.c' --include='*.h' --include='*.cpp' --include='*.S' '#include "\.\./' \
+        tests examples port >"$tmp/up"; then
+    bad "an #include by a ../ path (use bare names and -I): $(head -3 "$tmp/up" | tr '\n' ' ')"
+else
+    ok "no source in tests/, examples/ or port/ includes a file by a ../ path"
 fi
 
 # 6. docs/simulator.md's float figures: the spring with PM, with the guard and without.
