@@ -1,99 +1,103 @@
 # edmi build. `make help` prints the lines below that start with "#>".
-#> edmi: make targets, with the wall time from a fresh clone on a quiet 2-core machine
-#> (builds included) and the Debian 12 packages each needs beyond make, gcc and bash
-#> (`bash .ci/run` installs them all).
+#> edmi: make targets, each with a bound on its wall time from a fresh clone on a quiet 2-core
+#> machine (builds included; the measured time rounded up to 5, 10, 20 or 30 s or 1, 2, 3, 5,
+#> 10, 15, 20 or 30 min, so a new measurement changes it only when it crosses a step: `bash
+#> .ci/run` prints each step's time against it and STALE where it has), and the Debian 12
+#> packages each needs beyond make, gcc and bash (`bash .ci/run` installs them all).
 #>
 #> -- the two commands --
-#> make run             65 s
+#> make run             ≤ 2 min
 #>     the main job: the spring's accuracy table, then the paper's three examples with every
 #>     scheme (edmi-sim), a line as each of its 27 runs ends
-#> make test            5 min    needs g++ (clang: one check more)
+#> make test            ≤ 10 min  needs g++ (clang: one check more)
 #>     the test suite in four configurations (double, float, both under ASan+UBSan) and in
 #>     three builds with features compiled out (FEATURES), the simulator's tests, the fuzz
 #>     corpus replayed, library checks; last line "N passed, N failed"
 #>
 #> -- build --
-#> make                 20 s
+#> make                 ≤ 20 s
 #>     edmi.o, the examples and edmi-sim into build/double/ (EDMI_REAL=float: build/float/)
-#> make sim             10 s
+#> make sim             ≤ 10 s
 #>     edmi-sim and the scene parser's test program
-#> make help            0 s
+#> make help            ≤ 5 s
 #>     this list
-#> make clean           15 s
+#> make clean           ≤ 20 s
 #>     remove build/
 #>
 #> -- the host: examples and measurements --
-#> make run-examples    41 s
+#> make run-examples    ≤ 1 min
 #>     the paper's three examples alone (the second half of make run)
-#> make test-scene      10 s
+#> make test-scene      ≤ 10 s
 #>     the scene parser's tests
-#> make haptic          5 s      needs gnuplot for the figure
+#> make haptic          ≤ 5 s     needs gnuplot for the figure
 #>     the 1 kHz virtual coupling (examples/haptic.c): its table and trace, and the figure
 #>     where gnuplot is installed
-#> make haptic-wall     5 s      needs gnuplot for the figure
+#> make haptic-wall     ≤ 5 s     needs gnuplot for the figure
 #>     a hand pressing a tool into a wall through the coupling, each scheme
 #>     (examples/tool_on_wall.c); a device touching a wall at 1 kHz (examples/haptic_wall.c):
 #>     which device damping keeps the loop passive, the wall explicit or edmi's behind a
 #>     virtual coupling; its figure
-#> make plots           2 min    needs gnuplot for the figures
+#> make plots           ≤ 2 min   needs gnuplot for the figures
 #>     traces of the paper's examples and every figure in examples/figures/ (without gnuplot:
 #>     the traces and the cable's table only)
-#> make orbits          30 s
+#> make orbits          ≤ 30 s
 #>     does the guard steer conservative orbits? drifts of H, J and r, guarded PM against PM
 #>     without it, MP and LG
-#> make bench           45 s     needs valgrind
+#> make bench           ≤ 1 min   needs valgrind
 #>     cost against scene size (wall time), then callgrind instructions per step and per
 #>     correction against velocity Verlet
-#> make bench-profile   6 s      needs valgrind
+#> make bench-profile   ≤ 10 s    needs valgrind
 #>     where a step's instructions go, by phase and by function
-#> make guard-cost      17 s     needs valgrind
+#> make guard-cost      ≤ 20 s    needs valgrind
 #>     the passivity guard's cost on the host (callgrind)
-#> make study           19 min   needs valgrind, libgsl-dev, qemu-system-arm; gnuplot for the figures
+#> make study           ≤ 20 min  needs valgrind, libgsl-dev, qemu-system-arm; gnuplot for the figures
 #>     what accuracy costs: every scheme and its peers (velocity Verlet, GSL) on five scenes,
-#>     error against instructions; STUDY_QUICK=1 is the CI subset (40 s)
-#> make soak            8 min
+#>     error against instructions
+#> make study STUDY_QUICK=1 ≤ 1 min
+#>     the CI subset: two scenes, three dt's; tables and figures in build/study-quick/
+#> make soak            ≤ 10 min
 #>     the guard's adversarial scenes, 10^6 steps per case, both precisions (SOAK_STEPS=N for
 #>     fewer)
-#> make hard            3 min
+#> make hard            ≤ 3 min
 #>     issue 21's hard cases measured (tests/bench/hard/): Lennard-Jones wall, coupled masses with
 #>     the fallback, a user spring, a flipping port; both precisions, three runs each, tables
 #>     into build/hard/
-#> make refs            2 s
+#> make refs            ≤ 5 s
 #>     regenerate tests/ref_track.h, the double reference the float suite tracks, after a
 #>     change that moves results
 #>
 #> -- fuzzing --
-#> make fuzz            2 min    needs clang, llvm, libclang-rt-14-dev
+#> make fuzz            ≤ 2 min   needs clang, llvm, libclang-rt-14-dev
 #>     the API fuzzer, both precisions side by side, FUZZ_TIME seconds each (default 60), then
 #>     the coupling build (FEAT_coupling) for a quarter of that
-#> make fuzz-cov        10 s     needs clang, llvm
+#> make fuzz-cov        ≤ 10 s    needs clang, llvm
 #>     edmi.c's line and branch coverage by the fuzz corpora
 #>
 #> -- microcontrollers: cross builds and QEMU --
-#> make cross           75 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-riscv64-unknown-elf
+#> make cross           ≤ 2 min   needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-riscv64-unknown-elf
 #>     edmi.c for Cortex-M4F, M7, M0+ and rv32imac: size table, capacity table, build
 #>     options table (EDMI_WITH_*), external references
-#> make test-target     4 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make test-target     ≤ 5 min   needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the test suite on QEMU: Cortex-M4F (float; also in the coupling build) and Cortex-M7
 #>     (double), with the mass-matrix tests
-#> make bench-target    2 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make bench-target    ≤ 2 min   needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     instructions per step, the worst case, stack and the time bound, on QEMU -icount
-#> make worst-target    60 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make worst-target    ≤ 1 min   needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the costliest step of a one-body virtual coupling a search can make on the Cortex-M4F,
 #>     and the bound the count of its pieces gives (fails if a step exceeds it)
-#> make haptic-target   20 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make haptic-target   ≤ 20 s    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the 1 kHz virtual coupling on the Cortex-M4F: instructions per tick
-#> make smoke-target    10 s     needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make smoke-target    ≤ 10 s    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the QEMU runner's own exit statuses (pass, failure, fault, hang, stack overflow)
-#> make study-target    1 min    needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make study-target    ≤ 1 min   needs gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the study's Cortex-M4F column (make study runs it)
-#> make check-ram       6 s      needs gcc-arm-none-eabi, gcc-riscv64-unknown-elf
+#> make check-ram       ≤ 10 s    needs gcc-arm-none-eabi, gcc-riscv64-unknown-elf
 #>     the RAM formula of the sizing table against sizeof
-#> make check-sqrt      4 s
+#> make check-sqrt      ≤ 5 s
 #>     port/riscv/sqrt.c against the host's libm
-#> make check-port      6 s      needs gcc-arm-none-eabi, gcc-riscv64-unknown-elf
+#> make check-port      ≤ 10 s    needs gcc-arm-none-eabi, gcc-riscv64-unknown-elf
 #>     check-ram and check-sqrt
-#> make cmake-check     10 s     needs cmake, gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
+#> make cmake-check     ≤ 10 s    needs cmake, gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm
 #>     the CMake target edmi in a consumer project, for the host and the Cortex-M4F (run on
 #>     QEMU)
 #>
