@@ -69,7 +69,7 @@
 #include "edmi.h"
 #include "haptic_hand.h"
 
-/* The model, from haptic_hand.h (port/haptic_target.c runs the same). */
+/* The model, from haptic_hand.h (tests/bench/haptic_target.c runs the same). */
 #define HP_M HH_MASS
 #define HP_K HH_STIFFNESS
 #define HP_B HH_DAMPING
@@ -256,7 +256,7 @@ static long double hp_work(edmi_real f, edmi_real x0, edmi_real x1)
 }
 
 /* The bits of an edmi_real in hexadecimal, most significant byte first (little-endian
- * host), as port/haptic_target.c prints them: the two runs can be compared bit for bit. */
+ * host), as tests/bench/haptic_target.c prints them: the two runs can be compared bit for bit. */
 static void hp_put_bits(edmi_real x)
 {
     unsigned char b[sizeof x];
@@ -448,7 +448,7 @@ int main(int argc, char **argv)
            "sample-and-hold leak of a sampled loop,\nnot the integrator's: the device's "
            "physical damping must exceed K dt / 2 = %g N s/m to absorb it.\n",
            ed_extrap.fallbacks, ed_extrap.failed, (double)HP_K * (double)HP_DT / 2.0);
-    printf("\nedmi PM final state bits (port/haptic_target.c prints them too): q ");
+    printf("\nedmi PM final state bits (tests/bench/haptic_target.c prints them too): q ");
     hp_put_bits(run[HP_EDMI].q);
     printf(", p ");
     hp_put_bits(run[HP_EDMI].p);

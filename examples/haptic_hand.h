@@ -1,5 +1,5 @@
 /* The haptic example's coupling and its synthetic hand: one axis, six seconds, deterministic.
- * Shared by examples/haptic.c (host) and port/haptic_target.c (Cortex-M4F), so that both run
+ * Shared by examples/haptic.c (host) and tests/bench/haptic_target.c (Cortex-M4F), so that both run
  * the same model and trajectory in edmi_real; no libm (the sine is a series, see hh_sin).
  *
  * The coupling: a virtual tool of HH_MASS on a zero-rest-length spring HH_STIFFNESS with a
@@ -15,7 +15,7 @@
 #ifndef EDMI_HAPTIC_HAND_H
 #define EDMI_HAPTIC_HAND_H
 
-#include "../edmi.h"
+#include "edmi.h"
 
 #define HH_MASS EDMI_R(0.1)         /* tool mass [kg] */
 #define HH_STIFFNESS EDMI_R(3000.0) /* coupling spring [N/m]: 3 N/mm */
@@ -23,7 +23,7 @@
 #define HH_DT EDMI_R(1e-3)          /* tick [s]: 1 kHz */
 #define HH_TICKS 6000L              /* ticks: 6 s */
 
-/* The wall the hand presses the tool into (examples/tool_on_wall.c, port/haptic_target.c
+/* The wall the hand presses the tool into (examples/tool_on_wall.c, tests/bench/haptic_target.c
  * with HT_WALL): the plane x = HH_WALL_X, the tool on its side x < HH_WALL_X, the contact
  * potential HH_WALL_K / 3 (-g)^3 of the gap g = HH_WALL_X - x. */
 #define HH_WALL_X EDMI_R(0.04)  /* [m]: the hand reaches 57 mm */

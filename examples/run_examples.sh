@@ -5,7 +5,7 @@
 # time (longest first), and prints the rows in a fixed order. SIM_FULL=1 adds the ten-body
 # tol_Q study (LG quotient, alternates Janz/GE/PM, tol_Q 1e-4 and 1e-6: 6 more long runs).
 # Under the table, one line adds up the independent H check of every stored state of every
-# run (edmi-sim --h-check, tests/passive.c): the steps checked, those decided in __float128,
+# run (edmi-sim --h-check, tests/lib/passive.c): the steps checked, those decided in __float128,
 # and the steps where H rose by more than the work and the energy tank supplied, which must
 # be 0 where the guard runs (GE, PM, PT; MP and LG have no such bound).
 # Exit status non-zero if any run failed (its message is printed under the table), a run's H
@@ -88,7 +88,7 @@ hline=$(for id in $(order); do cat "$out/$id.h" 2>/dev/null || echo "missing $id
     $1 != "steps" { bad++; next }
     { n += $2; c += $4; q += $10; if ($2 != $4) bad++
       if ($12 == "on") { gn += $2; ge += $8 } else { un += $2; ue += $8 } }
-    END { printf "H check (tests/passive.c, on %d of %d steps, %d of them in __float128): H rose beyond the work and the tank on %d of %d guarded steps (GE, PM, PT), %d of %d unguarded (MP, LG)%s\n", c, n, q, ge, gn, ue, un, bad || ge ? ": FAILED" : ""
+    END { printf "H check (tests/lib/passive.c, on %d of %d steps, %d of them in __float128): H rose beyond the work and the tank on %d of %d guarded steps (GE, PM, PT), %d of %d unguarded (MP, LG)%s\n", c, n, q, ge, gn, ue, un, bad || ge ? ": FAILED" : ""
           exit (bad > 0 || ge > 0) }')
 hok=$?
 echo "$hline"

@@ -21,7 +21,7 @@
 #include <math.h>
 #include <stdio.h>
 #include "edmi.h"
-#include "examples/haptic_hand.h"
+#include "haptic_hand.h"
 
 #define TW_WALL ((long double)HH_WALL_X) /* the wall's position [m] */
 #define TW_K ((long double)HH_WALL_K)    /* its contact stiffness [N/m^2] */

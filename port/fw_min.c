@@ -6,7 +6,7 @@
  * It is never run. */
 #include <stddef.h>
 
-#include "../edmi.h"
+#include "edmi.h"
 
 static edmi_system fw_sys;
 static edmi_workspace fw_work;

@@ -49,7 +49,7 @@
  *                    kb, upper
  * The 32N reals are q1, p1, rq, rp, dp, rhs, q0, p0 (3 each), sq, sp, h (1 each) and kend (5); M =
  * EDMI_MAX_MATRIX (default 9N^2) is the Newton matrix; 9 reals per damper its tangent block. */
-#include "../edmi.h"
+#include "edmi.h"
 
 #define TGT_UP(x, a) ((((x) + (a) - 1u) / (a)) * (a))
 #define TGT_MAX(a, b) ((a) > (b) ? (a) : (b))

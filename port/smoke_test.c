@@ -7,7 +7,7 @@
  * and a clean run (-DTGT_SMOKE_OK or nothing) into a pass. */
 #include <stddef.h>
 
-#include "../tests/harness.h"
+#include "harness.h"
 
 static edmi_system sm_sys;
 static edmi_workspace sm_work;

@@ -9,21 +9,21 @@
 #                       undefined, the size table per target and the size per capacity setting
 #   make test-target    the unit test suite on QEMU mps2-an386 (Cortex-M4F, EDMI_REAL=float;
 #                       also in the coupling build) and mps2-an500 (Cortex-M7, double),
-#                       tests/mass_matrix.c built
-#                       with the general mass matrix (MASS_CFG) and tests/mass_spd.c with
+#                       tests/programs/mass_matrix.c built
+#                       with the general mass matrix (MASS_CFG) and tests/programs/mass_spd.c with
 #                       every pair of 4 bodies coupled (MASS_SPD_CFG); last line "N passed,
 #                       N failed"
 #   make bench-target   instructions per step (mean and worst), Newton iterations per step,
 #                       stack high-water mark of edmi_step, the pieces and bound of a step's
 #                       worst case and forced fallback steps, on QEMU with -icount shift=0
-#                       (port/bench_target.c); for the M4F also at a one-body capacity
+#                       (tests/bench/bench_target.c); for the M4F also at a one-body capacity
 #   make worst-target   the costliest step of a one-body virtual coupling (the coupling build
 #                       at 1 body, 2 links) that a search can make on the Cortex-M4F, and the
-#                       bound the count of its pieces gives (port/worst_target.c; WT_FLAGS=
+#                       bound the count of its pieces gives (tests/bench/worst_target.c; WT_FLAGS=
 #                       '-DWT_RANDOM=n -DWT_CLIMB=n' sets the search's size)
 #   make haptic-target  the 1 kHz virtual coupling of examples/haptic.c on the Cortex-M4F
 #                       (float): instructions per tick, mean and worst, guard actions,
-#                       failures, passivity of every tick (port/haptic_target.c)
+#                       failures, passivity of every tick (tests/bench/haptic_target.c)
 #   make check-ram      the RAM formula of docs/sizing.md against sizeof
 #   make check-port     check-ram, plus port/riscv/sqrt.c against the host's libm
 #   make smoke-target   the target runner itself: a pass, a failed check, a fault, a hang and
@@ -115,7 +115,7 @@ $(TGT)/cross-$(1)/edmi.o: edmi.c edmi.h
 $(TGT)/cross-$(1)/fw_min.o: port/fw_min.c edmi.h
 	@mkdir -p $$(@D)
 	$$(TGT_CC_$(call tgt_arch,$(1))) $$(LIBFLAGS) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
-	    $$(TGT_LIB_OPT) -DEDMI_REAL=$(call tgt_real,$(1)) -c $$< -o $$@
+	    $$(TGT_LIB_OPT) -DEDMI_REAL=$(call tgt_real,$(1)) -I. -c $$< -o $$@
 $(TGT)/cross-$(1)/fw_min.elf: $(TGT)/cross-$(1)/fw_min.o $(TGT)/cross-$(1)/edmi.o \
 		$$(TGT_FWPORT_$(call tgt_arch,$(1)))
 	$$(TGT_CC_$(call tgt_arch,$(1))) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
@@ -141,7 +141,7 @@ $(TGT)/cap-$(1)/$(2)/edmi.o: edmi.c edmi.h
 $(TGT)/cap-$(1)/$(2)/ramsize.o: port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
 	$$(TGT_CC_$(call tgt_arch,$(1))) $$(STRICT) $$(TGT_FLAGS_$(call tgt_arch,$(1))) \
-	    -DTGT_RAMCHECK_SIZES_ONLY -DEDMI_REAL=$(call tgt_real,$(1)) $(call tgt_capdefs,$(2)) \
+	    -DTGT_RAMCHECK_SIZES_ONLY -DEDMI_REAL=$(call tgt_real,$(1)) $(call tgt_capdefs,$(2)) -I. \
 	    -c $$< -o $$@
 endef
 $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),$(eval $(call tgt_cap_rules,$(p),$(c)))))
@@ -176,8 +176,8 @@ TGT_CAP_OBJS := $(foreach p,$(TGT_CAP_TARGETS),$(foreach c,$(TGT_CAPS),\
                     $(TGT)/cap-$(p)/$(c)/edmi.o $(TGT)/cap-$(p)/$(c)/ramsize.o))
 
 tgt-cross: $(TGT_CROSS_OBJS) $(TGT_CAP_OBJS) $(TGT_OPT_OBJS)
-	@echo "### external references of edmi.o per target (tests/check_lib.sh)"
-	@bash tests/run_all.sh $(foreach p,$(TGT_CROSS),'bash tests/check_lib.sh \
+	@echo "### external references of edmi.o per target (tests/scripts/check_lib.sh)"
+	@bash tests/scripts/run_all.sh $(foreach p,$(TGT_CROSS),'bash tests/scripts/check_lib.sh \
 	    "$(TGT_NM_$(call tgt_arch,$(p)))" \
 	    "$(TGT_CC_$(call tgt_arch,$(p))) $(TGT_FLAGS_$(call tgt_arch,$(p)))" \
 	    $(TGT)/cross-$(p)/edmi.o $(call tgt_nodouble,$(p))')
@@ -204,10 +204,18 @@ TGT_REAL_an386 := float
 TGT_REAL_an500 := double
 TGT_LD := port/cortex-m/mps2.ld
 TGT_PORT_HDR := $(wildcard port/cortex-m/*.h)
-TGT_TEST_SRC = $(sort tests/harness.c tests/target_io.c $(wildcard tests/test_*.c tests/scenes.c tests/passive.c))
-TGT_TEST_HDR = $(wildcard tests/*.h) examples/haptic_hand.h
-TGT_MASS_SRC = tests/mass_matrix.c tests/harness.c tests/passive.c tests/target_io.c
-TGT_MASS_SPD_SRC = tests/mass_spd.c tests/harness.c tests/target_io.c
+TGT_TEST_SRC = $(wildcard tests/test_*.c) tests/lib/harness.c tests/lib/target_io.c tests/lib/scenes.c \
+               tests/lib/passive.c
+TGT_TEST_HDR = $(wildcard tests/*.h tests/lib/*.h)
+# Tests and benchmarks include edmi.h, the shared helpers of tests/lib and the port's
+# cortex-m/*.h by bare name.
+TGT_INC := -I. -Itests/lib -Iport
+# The haptic benchmark measures the example's own hand model (examples/haptic_hand.h).
+TGT_INC_haptic_target := -Iexamples
+# An object per source in $(1), named tests-<base name>.o, whichever folder holds the source.
+tgt_test_obj = $(addprefix $(1)/tests-,$(notdir $(patsubst %.c,%.o,$(2))))
+TGT_MASS_SRC = tests/programs/mass_matrix.c tests/lib/harness.c tests/lib/passive.c tests/lib/target_io.c
+TGT_MASS_SPD_SRC = tests/programs/mass_spd.c tests/lib/harness.c tests/lib/target_io.c
 
 # $(1) = board. Objects of the board's programs in $(TGT)/$(1)/.
 define tgt_board_rules
@@ -229,19 +237,23 @@ $(TGT)/$(1)/edmi-tests.o: edmi.c edmi.h
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
 $(TGT)/$(1)/tests-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TEST_CAP) \
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TEST_CAP) $$(TGT_INC) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
-$(TGT)/$(1)/app-%.o: port/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+$(TGT)/$(1)/tests-%.o: tests/lib/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TEST_CAP) $$(TGT_INC) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
+$(TGT)/$(1)/app-%.o: tests/bench/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TGT_INC) \
+	    $$(TGT_INC_$$*) -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
 $(TGT)/$(1)/app-smoke_%.o: port/smoke_test.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TGT_INC) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -DTGT_SMOKE_$$* -c $$< -o $$@
 TGT_RT_$(1) := $(TGT)/$(1)/startup.o $(TGT)/$(1)/port-crt.o $(TGT)/$(1)/port-semihost.o
 $(TGT)/$(1)/edmi_tests.elf: $(TGT)/$(1)/edmi-tests.o $$(TGT_RT_$(1)) \
-		$$(patsubst tests/%.c,$(TGT)/$(1)/tests-%.o,$$(TGT_TEST_SRC)) $(TGT_LD)
+		$$(call tgt_test_obj,$(TGT)/$(1),$$(TGT_TEST_SRC)) $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections -Wl,-Map=$$@.map $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
 $(TGT)/$(1)/bench_target.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-bench_target.o \
@@ -253,35 +265,43 @@ $(TGT)/$(1)/haptic_target.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/ap
 		$(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
-# tests/mass_matrix.c with the general mass matrix on: every object built with MASS_CFG
+# tests/programs/mass_matrix.c with the general mass matrix on: every object built with MASS_CFG
 $(TGT)/$(1)-mass/edmi.o: edmi.c edmi.h
 	@mkdir -p $$(@D)
 	$$(ARM_CC) $$(LIBFLAGS) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_LIB_OPT) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_CFG) -c $$< -o $$@
-$(TGT)/$(1)-mass/tests-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+$(TGT)/$(1)-mass/tests-%.o: tests/lib/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TGT_INC) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_CFG) -c $$< -o $$@
+$(TGT)/$(1)-mass/tests-%.o: tests/programs/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TGT_INC) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_CFG) -c $$< -o $$@
 $(TGT)/$(1)-mass/mass_tests.elf: $(TGT)/$(1)-mass/edmi.o $$(TGT_RT_$(1)) \
-		$$(patsubst tests/%.c,$(TGT)/$(1)-mass/tests-%.o,$$(TGT_MASS_SRC)) $(TGT_LD)
+		$$(call tgt_test_obj,$(TGT)/$(1)-mass,$$(TGT_MASS_SRC)) $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
-# tests/mass_spd.c: every object built with MASS_SPD_CFG
+# tests/programs/mass_spd.c: every object built with MASS_SPD_CFG
 $(TGT)/$(1)-spd/edmi.o: edmi.c edmi.h
 	@mkdir -p $$(@D)
 	$$(ARM_CC) $$(LIBFLAGS) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_LIB_OPT) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_SPD_CFG) -c $$< -o $$@
-$(TGT)/$(1)-spd/tests-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+$(TGT)/$(1)-spd/tests-%.o: tests/lib/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TGT_INC) \
+	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_SPD_CFG) -c $$< -o $$@
+$(TGT)/$(1)-spd/tests-%.o: tests/programs/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+	@mkdir -p $$(@D)
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TGT_INC) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) $$(MASS_SPD_CFG) -c $$< -o $$@
 $(TGT)/$(1)-spd/mass_spd.elf: $(TGT)/$(1)-spd/edmi.o $$(TGT_RT_$(1)) \
-		$$(patsubst tests/%.c,$(TGT)/$(1)-spd/tests-%.o,$$(TGT_MASS_SPD_SRC)) $(TGT_LD)
+		$$(call tgt_test_obj,$(TGT)/$(1)-spd,$$(TGT_MASS_SPD_SRC)) $(TGT_LD)
 	$$(ARM_CC) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $$(filter %.o,$$^) -lm -lc -lgcc -o $$@
-$(TGT)/$(1)/lib-%.o: tests/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
+$(TGT)/$(1)/lib-%.o: tests/lib/%.c edmi.h $$(TGT_TEST_HDR) $$(TGT_PORT_HDR)
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) \
+	$$(ARM_CC) $$(STRICT) $$(TGT_FLAGS_$$(TGT_ARCH_$(1))) $$(TGT_APP_OPT) $$(TGT_INC) \
 	    -DEDMI_REAL=$$(TGT_REAL_$(1)) -c $$< -o $$@
 $(TGT)/$(1)/smoke-%.elf: $(TGT)/$(1)/edmi.o $$(TGT_RT_$(1)) $(TGT)/$(1)/app-smoke_%.o \
 		$(TGT)/$(1)/lib-harness.o $(TGT)/$(1)/lib-target_io.o $(TGT_LD)
@@ -301,16 +321,20 @@ $(TGT_FEAT)/edmi.o: edmi.c edmi.h
 	    -c $< -o $@
 $(TGT_FEAT)/tests-%.o: tests/%.c edmi.h $(TGT_TEST_HDR) $(TGT_PORT_HDR)
 	@mkdir -p $(@D)
-	$(ARM_CC) $(STRICT) $(TGT_FLAGS_m4f) $(TGT_APP_OPT) -DEDMI_REAL=float $(FEAT_coupling) \
+	$(ARM_CC) $(STRICT) $(TGT_FLAGS_m4f) $(TGT_APP_OPT) $(TGT_INC) -DEDMI_REAL=float $(FEAT_coupling) \
+	    -c $< -o $@
+$(TGT_FEAT)/tests-%.o: tests/lib/%.c edmi.h $(TGT_TEST_HDR) $(TGT_PORT_HDR)
+	@mkdir -p $(@D)
+	$(ARM_CC) $(STRICT) $(TGT_FLAGS_m4f) $(TGT_APP_OPT) $(TGT_INC) -DEDMI_REAL=float $(FEAT_coupling) \
 	    -c $< -o $@
 $(TGT_FEAT)/edmi_tests.elf: $(TGT_FEAT)/edmi.o $(TGT_RT_an386) \
-		$(patsubst tests/%.c,$(TGT_FEAT)/tests-%.o,$(TGT_TEST_SRC)) $(TGT_LD)
+		$(call tgt_test_obj,$(TGT_FEAT),$(TGT_TEST_SRC)) $(TGT_LD)
 	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
 	    -Wl,--gc-sections $(filter %.o,$^) -lm -lc -lgcc -o $@
 
 test-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/edmi_tests.elf $(TGT)/$(b)-mass/mass_tests.elf \
 		$(TGT)/$(b)-spd/mass_spd.elf) $(TGT_FEAT)/edmi_tests.elf
-	EDMI_TEST_TIMEOUT=$$(($(TGT_TIMEOUT) + 30)) bash tests/run_all.sh \
+	EDMI_TEST_TIMEOUT=$$(($(TGT_TIMEOUT) + 30)) bash tests/scripts/run_all.sh \
 	    $(foreach b,$(TGT_BOARDS),'$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)/edmi_tests.elf' \
 	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-mass/mass_tests.elf' \
 	        '$(TGT_RUN) $(TGT_MACHINE_$(b)) $(TGT)/$(b)-spd/mass_spd.elf') \
@@ -324,9 +348,10 @@ $(TGT_BENCH_CAP_DIR)/edmi.o: edmi.c edmi.h
 	@mkdir -p $(@D)
 	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) -DEDMI_REAL=float \
 	    $(call tgt_capdefs,$(TGT_BENCH_CAP)) -c $< -o $@
-$(TGT_BENCH_CAP_DIR)/app-bench_target.o: port/bench_target.c edmi.h $(TGT_PORT_HDR)
+$(TGT_BENCH_CAP_DIR)/app-bench_target.o: tests/bench/bench_target.c edmi.h tests/lib/bench_scenes.h \
+		$(TGT_PORT_HDR)
 	@mkdir -p $(@D)
-	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) -DEDMI_REAL=float \
+	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) $(TGT_INC) -DEDMI_REAL=float \
 	    $(call tgt_capdefs,$(TGT_BENCH_CAP)) -c $< -o $@
 $(TGT_BENCH_CAP_DIR)/bench_target.elf: $(TGT_BENCH_CAP_DIR)/edmi.o $(TGT_RT_an386) \
 		$(TGT_BENCH_CAP_DIR)/app-bench_target.o $(TGT_LD)
@@ -341,15 +366,15 @@ bench-target: $(foreach b,$(TGT_BOARDS),$(TGT)/$(b)/bench_target.elf) \
 	$(TGT_RUN) $(TGT_MACHINE_an386) $(TGT_BENCH_CAP_DIR)/bench_target.elf -icount shift=0
 
 # The costliest step of a one-body virtual coupling on the Cortex-M4F, found by a search
-# (port/worst_target.c): the coupling build (FEAT_coupling) at one body and two links.
+# (tests/bench/worst_target.c): the coupling build (FEAT_coupling) at one body and two links.
 TGT_WORST_DIR := $(TGT)/an386-worst
 TGT_WORST_CFG := -DEDMI_REAL=float $(FEAT_coupling) -DEDMI_MAX_BODIES=1 -DEDMI_MAX_LINKS=2
 $(TGT_WORST_DIR)/edmi.o: edmi.c edmi.h
 	@mkdir -p $(@D)
 	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) $(TGT_WORST_CFG) -c $< -o $@
-$(TGT_WORST_DIR)/app-worst_target.o: port/worst_target.c edmi.h $(TGT_PORT_HDR)
+$(TGT_WORST_DIR)/app-worst_target.o: tests/bench/worst_target.c edmi.h $(TGT_PORT_HDR)
 	@mkdir -p $(@D)
-	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) $(TGT_WORST_CFG) $(WT_FLAGS) \
+	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) $(TGT_INC) $(TGT_WORST_CFG) $(WT_FLAGS) \
 	    -c $< -o $@
 $(TGT_WORST_DIR)/worst_target.elf: $(TGT_WORST_DIR)/edmi.o $(TGT_RT_an386) \
 		$(TGT_WORST_DIR)/app-worst_target.o $(TGT_LD)
@@ -365,11 +390,11 @@ $(TGT_HWALL_DIR)/edmi.o: edmi.c edmi.h
 	@mkdir -p $(@D)
 	$(ARM_CC) $(LIBFLAGS) $(TGT_FLAGS_m4f) $(TGT_LIB_OPT) -DEDMI_REAL=float -DEDMI_MAX_WALLS=1 \
 	    -c $< -o $@
-$(TGT_HWALL_DIR)/app-haptic_target.o: port/haptic_target.c edmi.h examples/haptic_hand.h \
+$(TGT_HWALL_DIR)/app-haptic_target.o: tests/bench/haptic_target.c edmi.h examples/haptic_hand.h \
 		$(TGT_PORT_HDR)
 	@mkdir -p $(@D)
-	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) -DEDMI_REAL=float \
-	    -DEDMI_MAX_WALLS=1 -DHT_WALL=1 -c $< -o $@
+	$(ARM_CC) $(STRICT) -Werror $(TGT_FLAGS_m4f) $(TGT_APP_OPT) $(TGT_INC) \
+	    $(TGT_INC_haptic_target) -DEDMI_REAL=float -DEDMI_MAX_WALLS=1 -DHT_WALL=1 -c $< -o $@
 $(TGT_HWALL_DIR)/haptic_target.elf: $(TGT_HWALL_DIR)/edmi.o $(TGT_RT_an386) \
 		$(TGT_HWALL_DIR)/app-haptic_target.o $(TGT_LD)
 	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \
@@ -403,14 +428,14 @@ TGT_RAM_CROSS := $(foreach a,m4f rv32imac,$(foreach r,float double,$(foreach c,$
 define tgt_ram_rules
 $(TGT)/ramcheck/$(1)-$(2): port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
-	$$(CC) $$(STRICT) -Werror -O2 -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) $$< -o $$@
+	$$(CC) $$(STRICT) -Werror -O2 -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) -I. $$< -o $$@
 $(TGT)/ramcheck/m4f-$(1)-$(2).o: port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
-	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_m4f) -DTGT_RAMCHECK_NO_MAIN -DEDMI_REAL=$(1) \
+	$$(ARM_CC) $$(STRICT) -Werror $$(TGT_FLAGS_m4f) -DTGT_RAMCHECK_NO_MAIN -DEDMI_REAL=$(1) -I. \
 	    $(call tgt_capdefs,$(2)) -c $$< -o $$@
 $(TGT)/ramcheck/rv32imac-$(1)-$(2).o: port/ramcheck.c edmi.h
 	@mkdir -p $$(@D)
-	$$(TGT_RV_CC) $$(STRICT) -Werror $$(TGT_FLAGS_rv32imac) -DTGT_RAMCHECK_NO_MAIN \
+	$$(TGT_RV_CC) $$(STRICT) -Werror $$(TGT_FLAGS_rv32imac) -DTGT_RAMCHECK_NO_MAIN -I. \
 	    -DEDMI_REAL=$(1) $(call tgt_capdefs,$(2)) -c $$< -o $$@
 endef
 $(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),$(eval $(call tgt_ram_rules,$(r),$(c)))))
@@ -419,7 +444,7 @@ $(foreach r,float double,$(foreach c,$(TGT_RAM_CAPS),$(eval $(call tgt_ram_rules
 TGT_RAM_CROSS_OK = echo "compile-time formula checks, Arm EABI and RISC-V ilp32:"; \
     echo "$(words $(TGT_RAM_CROSS)) passed, 0 failed"
 check-ram: $(TGT_RAM_HOST) $(TGT_RAM_CROSS)
-	bash tests/run_all.sh $(TGT_RAM_HOST) '$(TGT_RAM_CROSS_OK)'
+	bash tests/scripts/run_all.sh $(TGT_RAM_HOST) '$(TGT_RAM_CROSS_OK)'
 
 $(TGT)/sqrtcheck: port/sqrtcheck.c port/riscv/sqrt.c
 	@mkdir -p $(@D)
@@ -427,15 +452,15 @@ $(TGT)/sqrtcheck: port/sqrtcheck.c port/riscv/sqrt.c
 	    port/sqrtcheck.c port/riscv/sqrt.c -o $@ -lm
 
 check-sqrt: $(TGT)/sqrtcheck
-	bash tests/run_all.sh $(TGT)/sqrtcheck
+	bash tests/scripts/run_all.sh $(TGT)/sqrtcheck
 
 check-port: $(TGT_RAM_HOST) $(TGT_RAM_CROSS) $(TGT)/sqrtcheck
-	bash tests/run_all.sh $(TGT_RAM_HOST) $(TGT)/sqrtcheck '$(TGT_RAM_CROSS_OK)'
+	bash tests/scripts/run_all.sh $(TGT_RAM_HOST) $(TGT)/sqrtcheck '$(TGT_RAM_CROSS_OK)'
 
 TGT_COMMA := ,
 .DEFAULT_GOAL := $(TGT_SAVED_GOAL)
 
-# The work-precision study's Cortex-M4F column (port/study_target.c; `make study` runs it).
+# The work-precision study's Cortex-M4F column (tests/bench/study_target.c; `make study` runs it).
 $(TGT)/an386/study_target.elf: $(TGT)/an386/edmi.o $(TGT_RT_an386) $(TGT)/an386/app-study_target.o \
 		$(TGT_LD)
 	$(ARM_CC) $(TGT_FLAGS_m4f) -nostartfiles -T $(TGT_LD) --specs=nano.specs \

@@ -12,7 +12,7 @@
  *     larger of the two is stored): how much a relative error made along the way grows by T.
  * Hosted code: stdio is fine here. */
 #include <stdio.h>
-#include "../edmi.h"
+#include "edmi.h"
 
 #define GR_NS 5
 #define GR_ND 3

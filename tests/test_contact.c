@@ -2,7 +2,7 @@
  * the divided difference against their closed forms in long double, bad parameters refused,
  * and collisions stepped by every scheme: contact beginning and ending inside a step, the
  * linear and angular momentum kept, and H judged on the stored states in tp_q
- * (tests/passive.c: every window of steps within the works and the tank). */
+ * (tests/lib/passive.c: every window of steps within the works and the tank). */
 #include <math.h>
 #include "harness.h"
 #include "suites.h"

@@ -2,7 +2,7 @@
  * spring through d = 0, moving anchors and the force at them, the fallback state, rest as a
  * fixed point, user potentials guarded as the built-ins are.
  *
- * Every energy assertion here is checked by tests/passive.c, which evaluates H of both stored
+ * Every energy assertion here is checked by tests/lib/passive.c, which evaluates H of both stored
  * states in tp_q (__float128 on the x86-64 host, long double elsewhere) by its own formulas: the library's double-word arithmetic and its
  * error bounds are not consulted. A step violates passivity when
  *     H(q_n+1, p_n+1) - H(q_n, p_n) > work_ext + work_anchor + err,
@@ -34,7 +34,7 @@ static edmi_params gd_params(edmi_scheme s)
     return p;
 }
 
-/* What a scene of tests/passive.c needs of the build with parameters prm (EDMI_WITH_*). */
+/* What a scene of tests/lib/passive.c needs of the build with parameters prm (EDMI_WITH_*). */
 static int gd_scene_in(tp_scene sc, const edmi_params *prm)
 {
     return th_has_params(prm) && tp_scene_in(sc);
@@ -300,7 +300,7 @@ static void gd_no_lockup(edmi_scheme s)
 /* One tick of a hand on link 0 (the anchor moved to x, then a step of dt): 0 if the step
  * failed; else *bad counts a work_anchor that differs from -link_force . (x_n+1 - x_n)
  * recomputed in long double by more than eps of its size, an anchor not where it was sent,
- * and a rise of the stored H beyond the work (tests/passive.c). */
+ * and a rise of the stored H beyond the work (tests/lib/passive.c). */
 static int gd_hand_tick(const edmi_real x[3], edmi_real dt, edmi_step_result *res, long *bad)
 {
     tp_delta d;
@@ -356,7 +356,7 @@ static void gd_moving_anchor(void)
 /* The virtual coupling alone, what the coupling build carries (no damper, no field): a body
  * on a zero-rest-length spring to a hand and a spring of rest length 0.05 to a fixed anchor,
  * the hand swept back and forth at 2 Hz over 4 cm for 4 s at 1 kHz with the fallback on. Every
- * tick ends EDMI_OK; on the stored numbers (tests/passive.c, __float128 on the host) H never
+ * tick ends EDMI_OK; on the stored numbers (tests/lib/passive.c, __float128 on the host) H never
  * rises beyond the anchor's work plus the tank's change; the work reported equals
  * -sum link_force . (x_n+1 - x_n) recomputed in long double (to eps of its size); the
  * anchor ends where it was sent. */
@@ -429,7 +429,7 @@ static void gd_fallback(void)
     CHECK(tp_delta_h(&gd_old, &gd_sys, &res, &d) && !d.broken && d.dh < 0.0L);
 }
 
-/* (7) Rest is a fixed point (tests/passive.c, tp_rest_run). A body settling onto its anchor
+/* (7) Rest is a fixed point (tests/lib/passive.c, tp_rest_run). A body settling onto its anchor
  * on a zero-rest-length spring (edmi_pot_harmonic(1e4, 0), m 0.1, dt 1e-3, from 0.01 away, p
  * parallel to q: J = 0, nothing keeps it off the anchor) passes through every scale down to
  * the subnormal range: energies that underflow, distances of 1e-20 and 1e-300. GE alone

@@ -380,7 +380,7 @@ static void hard_stiff(void)
  * 3 to 236: V up to 3e30), masses 1, momenta (5, 0, 0) and (10, 0, 0), bodies on the y axis;
  * one step of each scheme (and LG's quotient) at dt 1e-3 to 0.26 from that state. Without
  * options a step returns EDMI_OK only with the stored state solving the scheme within the
- * bound edmi.h states, judged by tests/passive.c's own magnitudes (tp_solved <= 2
+ * bound edmi.h states, judged by tests/lib/passive.c's own magnitudes (tp_solved <= 2
  * EDMI_SOLVED; before this check existed 64 of 78 OK steps in double were off by 1e10 to
  * 1e30, with a correction of exactly 0 and residual = residual0 = 1), and otherwise leaves
  * the system bit-identical. Substeps (3 levels) solve more of them, each passive with the
@@ -494,7 +494,7 @@ static void hard_wall(void)
 
 /* ---- (f) a user potential the guard failed on ------------------------------------------------
  * V = k/2 (r - r0)^2, k 50, r0 1, split as docs/energy-safe.md asks (V_c = V_+ = V, V_e = V_- = 0), with its
- * exact divided difference (tests/passive.c, tp_user_harmonic); one body m 1 at (1.3, 0, 0), p (0, 2, 0), anchored at the origin,
+ * exact divided difference (tests/lib/passive.c, tp_user_harmonic); one body m 1 at (1.3, 0, 0), p (0, 2, 0), anchored at the origin,
  * dt 1e-3, PT and GE with the guard: every step failed with EDMI_ERR_PASSIVITY from step ~60
  * (double) / ~120 (float) of an ordinary state before the guard's rework; 2000 steps now all
  * solve, none falls back. */
@@ -539,7 +539,7 @@ static void hard_user_spring(void)
 
 /* ---- (g) a fallback that does not freeze ----------------------------------------------------
  * The 1 kHz virtual spring (m 0.1, k 1e4, rest length 0.05, anchored) under a port flipping
- * sign every tick (tests/passive.c, TP_FLIP), PM with l_max = 1: one correction never reaches
+ * sign every tick (tests/lib/passive.c, TP_FLIP), PM with l_max = 1: one correction never reaches
  * the round-off floor of a non-linear link, so every step falls back. The fallback used to
  * keep the positions and zero the momenta, and the body never moved again; now it stores
  * Newton's last iterate made passive by the guard: every step EDMI_OK, passive (the port's

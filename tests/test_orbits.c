@@ -5,7 +5,7 @@
  *   a  Lennard-Jones V = 4 (r^-12 - r^-6), r0 = 1.2, v0 = sqrt(r0 V'(r0)), dt = 1.4e-3
  *      (3300 steps per revolution);
  *   b  gravity V = -1/r, r0 = 1, v0 = 1, dt = 1e-3 (6283 steps per revolution).
- * Asserted, per scene (examples/orbits.c prints the same figures, longer runs and a third,
+ * Asserted, per scene (tests/bench/orbits.c prints the same figures, longer runs and a third,
  * unstable scene: `make orbits`):
  *   double: guarded PM's |H_N - H_0|, max_n |H_n - H_0|, |J_N - J_0| and max_n |J_n - J_0|
  *           are each at most ORB_FACTOR times unguarded PM's (EDMI_GUARD_OFF);
@@ -56,7 +56,7 @@
 #define ORB_GUARDED_MAX 0.01L
 
 /* What the old guard (commit 411e673, before the energy tank) did on the same runs, measured
- * with examples/orbits.c --steps 20000 built against it: relative |H_N - H_0| and |J_N - J_0|
+ * with tests/bench/orbits.c --steps 20000 built against it: relative |H_N - H_0| and |J_N - J_0|
  * of guarded PM (its drifts grew monotonically: the maxima over the run are the same figures).
  * Every bound asserted below must lie at least ORB_OLD_MARGIN below these, so that each
  * comparison would have failed then. Measured: the old figures exceed the bounds by 4.3x to
@@ -103,7 +103,7 @@ static const long double orb_old_dj[2][2] = {{5.02e-5L, 1.89e-4L}, {1.33e-12L, 1
 typedef enum orb_scene { ORB_LJ = 0, ORB_GRAV } orb_scene;
 
 /* The circular speed of scene a, sqrt(24 r0^-6 - 48 r0^-12) at r0 = 1.2, to 21 digits
- * (mpmath; examples/orbits.c uses the same literal): correctly rounded in either precision,
+ * (mpmath; tests/bench/orbits.c uses the same literal): correctly rounded in either precision,
  * so host and target builds start from the same state. */
 #define ORB_V_LJ EDMI_R(1.62912001113106890164)
 

@@ -151,7 +151,7 @@ static void solver_state_writes(void)
 }
 
 /* Factors kept from a system's last step (edmi.h, edmi_workspace). Ten unit masses, all 45
- * pairs V = -0.01/r (port/bench_scenes.h's all-pairs scene, dt = 0.05), PM: every step of
+ * pairs V = -0.01/r (tests/lib/bench_scenes.h's all-pairs scene, dt = 0.05), PM: every step of
  * the system that keeps its factors in work_solver is checked against the same step from
  * the same state by a copy with its own workspace, which cannot reuse anything (its record
  * names another workspace), so that it solves from its own Newton matrix: the two solve the

@@ -9,7 +9,7 @@
  *
  * Prints a summary (steps, time, wall time, Newton iterations, final and maximum
  * |H - H0|/|H0|, maximum |J - J0|, |L - L0|, |C - C0|, the steps where H of the stored state
- * rose, evaluated by tests/passive.c) or, with --row, one Markdown table row; optionally a CSV
+ * rose, evaluated by tests/lib/passive.c) or, with --row, one Markdown table row; optionally a CSV
  * trace; with --ref, the trajectory error against an earlier trace or a converged run of its
  * own. Exit status: 0 success, 1 a step or invariant evaluation failed, 2 a usage or scene
  * error, 3 the energy balance missed its tolerance. Hosted C99 (stdio, POSIX clock and isatty); builds in double or
@@ -26,7 +26,8 @@
 #include <unistd.h>
 #include "edmi.h"
 #include "scene.h"
-#include "../../tests/passive.h"
+/* The energy check uses the shared exact-H helper, tests/lib/passive.h (-Itests/lib). */
+#include "passive.h"
 
 #define SIM_PROGRESS_AFTER 2.0 /* seconds before the first progress report */
 #define SIM_PROGRESS_EVERY 1.0 /* seconds between reports on a terminal */
@@ -55,7 +56,7 @@ static const char *const usage_text =
     "  --every K                 one CSV row every K steps (default: `set every`, else 1)\n"
     "  --digits N                significant digits of q and p in the CSV (default 17)\n"
     "  --energy-balance          check H_n+1 - H_n = W_ext + W_anchor - D_scheme - D_damping\n"
-    "                            - D_guard each step (H of the stored states, tests/passive.c),\n"
+    "                            - D_guard each step (H of the stored states, tests/lib/passive.c),\n"
     "                            relative to the magnitude of H's terms and the reported ones;\n"
     "                            exit 3 if the largest mismatch exceeds the tolerance\n"
     "  --balance-tol X           that tolerance (implies --energy-balance; default 256 eps:\n"
@@ -496,7 +497,7 @@ typedef struct sim_stats {
     double w_ext, w_anchor, d_scheme, d_damping, d_guard; /* sums over the run */
     double max_balance;       /* max over steps of |dH - (W + Wa - Ds - Dd - Dg)| / scale, */
     long max_balance_step;    /* scale = |H_n| + |W| + |Wa| + |Ds| + |Dd| + |Dg|; its step */
-    /* H of the stored states in tp_q (tests/passive.c: __float128 on the x86-64 host, long
+    /* H of the stored states in tp_q (tests/lib/passive.c: __float128 on the x86-64 host, long
      * double elsewhere; independent of the library):
      * steps where it rose, where it rose by more than the work supplied (beyond the
      * evaluation's own error bound), and the largest one-step rise relative to h_scale */
@@ -504,7 +505,7 @@ typedef struct sim_stats {
     long h_quad;   /* steps evaluated in tp_q: where double-word arithmetic could not decide
                       (tp_delta_h_fast), and a rise that may be the largest (its value) */
     double max_rise;
-    int h_checked; /* 0: a potential tests/passive.c cannot evaluate */
+    int h_checked; /* 0: a potential tests/lib/passive.c cannot evaluate */
 } sim_stats;
 
 static void csv_header(FILE *f, const sim_scene *s)
@@ -1125,7 +1126,7 @@ static void print_summary(const sim_opts *o, const sim_stats *st, double dt, lon
         printf("H steps   H rose in 0 of %ld steps, by more than the work and the tank supplied in "
                "0 (%s on the stored states): it never rose\n", st->steps, tp_q_name());
     else
-        printf("H steps   not checked: a state tests/passive.c cannot evaluate (a "
+        printf("H steps   not checked: a state tests/lib/passive.c cannot evaluate (a "
                "coupled M that is not diagonally dominant)\n");
     if (o->energy_balance && st->h_checked)
         printf("balance   max |H_n+1 - H_n - (W_ext + W_anchor - D_scheme - D_damping - D_guard)| "
@@ -1208,7 +1209,7 @@ int main(int argc, char **argv)
     FILE *csv = 0;
     static sim_ref ref;
     static edmi_system run_sys, prev_sys; /* prev_sys: bodies and anchors of the last state */
-    tp_hdw h_prev;                        /* H of prev_sys in double-word (tests/passive.c) */
+    tp_hdw h_prev;                        /* H of prev_sys in double-word (tests/lib/passive.c) */
     sim_err rerr;
     sim_conv conv;
     sim_stiff stiff;
@@ -1403,7 +1404,7 @@ int main(int argc, char **argv)
             st.max_dc = dc;
         if (st.h_checked) {
             /* tp_delta_h's decisions, in double-word arithmetic where that settles them
-             * (tests/passive.c); the energy balance needs tp_q's dh and mag themselves */
+             * (tests/lib/passive.c); the energy balance needs tp_q's dh and mag themselves */
             tp_delta d;
             tp_hdw h;
             int ok;

@@ -1,6 +1,6 @@
 /*
  * test_hcheck: edmi-sim's H check in double-word arithmetic against its __float128
- * evaluation. tests/passive.c decides each step's "H rose" and "H rose beyond the work and
+ * evaluation. tests/lib/passive.c decides each step's "H rose" and "H rose beyond the work and
  * the tank" in binary64 double-word arithmetic (tp_h_dw, tp_delta_dw) where its error bound
  * settles them, and in __float128 (tp_delta_h) where it does not; every decision the first
  * settles must be the second's.
@@ -29,7 +29,8 @@
 #include <string.h>
 #include "edmi.h"
 #include "scene.h"
-#include "../../tests/passive.h"
+/* The energy check uses the shared exact-H helper, tests/lib/passive.h (-Itests/lib). */
+#include "passive.h"
 
 /* Steps per scene and scheme (the ten bodies: fewer, each __float128 evaluation costs ~0.1 ms). */
 #define HC_STEPS 120

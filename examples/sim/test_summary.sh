@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # edmi-sim's summary: the "H steps" line (H of every stored state in tp_q, __float128 on the
-# host, by tests/passive.c, not the library), --energy-balance's tolerance and exit status, and the
+# host, by tests/lib/passive.c, not the library), --energy-balance's tolerance and exit status, and the
 # --row cost column. `make test` runs it with the double and the float edmi-sim.
 #   usage: test_summary.sh EDMI_SIM SCENE_DIR [float|double]   Last line: "N passed, N failed".
 set -u
@@ -26,7 +26,7 @@ else
 fi
 out=$("$sim" "$spring" --scheme pm --tank-cap 0 --quiet)
 if [ "$(rises "$out")" = "0 10000 0" ]; then
-    ok "PM, spring, --tank-cap 0: H rose in 0 of 10000 steps (tests/passive.c on the stored states)"
+    ok "PM, spring, --tank-cap 0: H rose in 0 of 10000 steps (tests/lib/passive.c on the stored states)"
 else
     bad "PM, spring, --tank-cap 0: $(grep '^H steps' <<<"$out")"
 fi

@@ -1,5 +1,5 @@
-/* One call timed on its own, for the benchmarks on the emulated Cortex-M (port/bench_target.c,
- * port/worst_target.c).
+/* One call timed on its own, for the benchmarks on the emulated Cortex-M (tests/bench/bench_target.c,
+ * tests/bench/worst_target.c).
  *
  * QEMU models no DWT cycle counter, so under -icount shift=0 (one guest instruction per ns of
  * virtual time) SysTick's 25 MHz counts 40 instructions per tick. One tick is too coarse for

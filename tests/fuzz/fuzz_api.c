@@ -11,7 +11,7 @@
  *     whose fields are finite, and with the guard on the passivity inequality
  *     H(q_n+1, p_n+1) - H(q_n, p_n) <= work_ext + work_anchor + T_n - T_n+1 on the stored
  *     values and the window form H_n - H_m <= the works in between + T_m over every run of
- *     guarded steps (tp_window_step), both evaluated in __float128 by tests/passive.c (no
+ *     guarded steps (tp_window_step), both evaluated in __float128 by tests/lib/passive.c (no
  *     library code) within its own bound, user potentials included (as the built-in one
  *     each callback computes); the tank within its capacity, and 0 with tank_cap 0;
  *   - on success of edmi_step that is not a fallback: the stored state solves the scheme
@@ -27,8 +27,8 @@
 #include <string.h>
 #include <math.h>
 
-#include "../../edmi.h"
-#include "../passive.h"
+#include "edmi.h"
+#include "passive.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -153,7 +153,7 @@ typedef struct fz_user {
 
 #define FZ_MAX_USER 8 /* per input; never reused, so a live link's ctx never changes */
 static fz_user fz_users[FZ_MAX_USER];
-/* built-ins behind a user callback (tests/passive.c, tp_user_builtin_fn): the harmonic and
+/* built-ins behind a user callback (tests/lib/passive.c, tp_user_builtin_fn): the harmonic and
  * inverse ones, whose V' edmi_pot_eval gives to a few units in the last place everywhere (a
  * user potential's promise) */
 static edmi_potential fz_wrapped[FZ_MAX_USER];
@@ -394,7 +394,7 @@ static void fz_check_step(const edmi_system *s0, const edmi_system *s1, edmi_rea
     if (!fz_guard_on(&s0->params))
         return;
     if (!tp_delta_h(s0, s1, res, &d))
-        fz_fail("stored state cannot be evaluated by tests/passive.c", "edmi_step", EDMI_OK);
+        fz_fail("stored state cannot be evaluated by tests/lib/passive.c", "edmi_step", EDMI_OK);
     if (d.broken) {
         fprintf(stderr, "dH = %.21Lg, work + T_n - T_n+1 = %.21Lg, dH - that %.3Lg, bound %.3Lg "
                 "(%s)\n", d.dh, d.w, d.diff, d.err, tp_q_name());
@@ -461,7 +461,7 @@ static edmi_workspace fz_work;
 /* ---- OK means solved: the scheme's residual at the stored state ------------------------- */
 
 /* The bound edmi.h states for an EDMI_OK step (EDMI_SOLVED), checked with magnitudes of the
- * test suite's own (tp_solved, tests/passive.c: the residual at the stored state against the
+ * test suite's own (tp_solved, tests/lib/passive.c: the residual at the stored state against the
  * terms' magnitudes as edmi.h defines them, in long double from public data). A solved step
  * is within EDMI_SOLVED there up to the rounding of the magnitudes, which the library sums in
  * its own precision: the factor 2 is for that (a step deep in a repulsive wall that Newton
