@@ -2859,7 +2859,8 @@ static int edmi__newton_solved(const edmi_system *sys, edmi_workspace *work, edm
         (c == EDMI__ZERO || r == EDMI__ZERO ||
          (g->l >= 2 && r <= g->rprev && r <= EDMI__SQRT_EPS * res->residual0 &&
           c <= EDMI_R(0.25) * g->cprev && g->cprev <= EDMI_R(0.25) * g->cprev2 &&
-          (g->chord ? c * c <= EDMI_EPS * g->cprev : c * c * c <= EDMI_EPS * g->cprev * g->cprev)))) {
+          (g->chord ? c * c <= EDMI_EPS * g->cprev
+                    : c * c * c <= EDMI_EPS * g->cprev * g->cprev)))) {
         if (r == EDMI__ZERO || edmi__solved(sys, work, dt, EDMI__SOLVED)) {
             res->stop = EDMI_STOP_CONVERGED;
             return 1;
@@ -4502,7 +4503,7 @@ static void edmi__guard_stop(const edmi_system *sys, edmi_workspace *work)
  * energies underflows, and the fallback's quick certificate (quick) counts no search: there
  * HOLD and STOP alone. What each move buys, over 10^6 steps of `make orbits`' scenes in both
  * precisions, with the default tank and tank_cap = 0, and on the coupled-mass scenes of
- * tests/mass_spd.c, is in docs/guard.md; four one-unit nudges after the searches, tried
+ * tests/programs/mass_spd.c, is in docs/guard.md; four one-unit nudges after the searches, tried
  * before, bought nothing measurable there. */
 enum { EDMI__MOVE_HOLD, EDMI__MOVE_IMPULSE, EDMI__MOVE_ROUND, EDMI__MOVE_DRAG,
        EDMI__MOVE_CLAMPED, EDMI__MOVE_STOP, EDMI__MOVES };
