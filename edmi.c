@@ -2909,6 +2909,8 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
                                 edmi_step_result *res)
 {
     edmi__newton_log g;
+    edmi_real r = res->residual0, moved = EDMI__ONE; /* g.r and g.moved, whose addresses the
+                                                     * evaluations take: g stays in registers */
     edmi_status st;
     int l, switches_before;
     g.r = res->residual0;
@@ -2931,7 +2933,8 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
              * there, and a body at rest would stay on that point for ever. Start once more
              * from the explicit predictor p = p_n - R_p(q_n, p_n) (the forces' impulse),
              * q = q_n + dt/(2m) (p_n + p). */
-            st = edmi__explicit_predictor(sys, work, dt, &g.r, res);
+            st = edmi__explicit_predictor(sys, work, dt, &r, res);
+            g.r = r;
             if (st == EDMI_OK)
                 st = edmi__newton_update(sys, work, dt, 0);
         }
@@ -2942,11 +2945,13 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
         g.halvings_before = res->halvings;
         if (l == 1 && g.chord) { /* the last step's factors, taken once, never halved */
             edmi__move(sys, work, EDMI__ONE);
-            st = edmi__evaluate(sys, work, dt, &g.r, res);
-            g.moved = EDMI__ONE;
+            st = edmi__evaluate(sys, work, dt, &r, res);
+            moved = EDMI__ONE;
         } else {
-            st = edmi__line_search(sys, work, dt, &g.r, res, &g.moved);
+            st = edmi__line_search(sys, work, dt, &r, res, &moved);
         }
+        g.r = r;
+        g.moved = moved;
         if (l == 1 && g.chord && !(st == EDMI_OK && g.r <= EDMI__HALF * g.rprev)) {
             /* the last step's factors did not halve the predictor's residual (or left the
              * domain): back to the predictor, and the correction with its own matrix. At
@@ -2955,7 +2960,7 @@ static edmi_status edmi__newton(const edmi_system *sys, edmi_workspace *work, ed
             st = edmi__predictor(sys, work, dt, res);
             if (st != EDMI_OK)
                 return st;
-            g.r = edmi__scaled_residual(sys, work);
+            g.r = r = edmi__scaled_residual(sys, work);
             work->kept = 0;
             l = 0;
             continue;
