@@ -1,9 +1,10 @@
 # edmi build. `make help` prints the lines below that start with "#>".
 #> edmi: make targets, each with a bound on its wall time from a fresh clone on a quiet 2-core
 #> machine (builds included; the measured time rounded up to 5, 10, 20 or 30 s or 1, 2, 3, 5,
-#> 10, 15, 20 or 30 min, so a new measurement changes it only when it crosses a step: `bash
-#> .ci/run` prints each step's time against it and STALE where it has), and the Debian 12
-#> packages each needs beyond make, gcc and bash (`bash .ci/run` installs them all).
+#> 10, 15, 20 or 30 min, so a new measurement needs a new quote only when it breaks the bound
+#> or falls two steps below it: `bash .ci/run` prints each step's time against it, and STALE
+#> there), and the Debian 12 packages each needs beyond make, gcc and bash (`bash .ci/run`
+#> installs them all).
 #>
 #> -- the two commands --
 #> make run             ≤ 2 min

@@ -9,6 +9,8 @@
 #   help_time.sh quote COMMAND  that command's quote, "SECONDS TEXT"; exit 1 if make help has none
 #   help_time.sh round SECONDS  the scale's value SECONDS rounds up to, "SECONDS TEXT"; exit 1
 #                               beyond the scale
+#   help_time.sh below SECONDS  the scale's value one step below SECONDS (a value on the
+#                               scale), "SECONDS TEXT"; nothing for the scale's first
 #   help_time.sh scale          the scale, "SECONDS TEXT" per line
 set -u
 scale='5 s|10 s|20 s|30 s|1 min|2 min|3 min|5 min|10 min|15 min|20 min|30 min'
@@ -28,10 +30,13 @@ quote)
     line=$(bash "$0" quotes | awk -F'\t' -v c="${2-}" '$1 == c { print $2 " " $3; exit }')
     [ -n "$line" ] || exit 1
     echo "$line" ;;
+below)
+    s=${2:?usage: help_time.sh below SECONDS}
+    bash "$0" scale | awk -v s="$s" '$1 == s { if (prev != "") print prev; exit } { prev = $0 }' ;;
 round)
     s=${2:?usage: help_time.sh round SECONDS}
     bash "$0" scale | awk -v s="$s" '$1 >= s { print $1 " " $2 " " $3; found = 1; exit } END { exit !found }' ;;
 *)
-    echo "usage: help_time.sh quotes | quote COMMAND | round SECONDS | scale" >&2
+    echo "usage: help_time.sh quotes | quote COMMAND | round SECONDS | below SECONDS | scale" >&2
     exit 2 ;;
 esac
