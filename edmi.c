@@ -5097,7 +5097,7 @@ static edmi_status edmi__attempt(const edmi_system *sys, edmi_workspace *work, e
     edmi__clear_result(res);
     res->tank = sys->tank; /* the guard sets the tank after the step */
     st = edmi__predictor(sys, work, dt, res);
-    if (st != EDMI_OK) /* the start's own residual outside the domain: a failed step */
+    if (st != EDMI_OK) /* the predictor's residual outside the domain: a failed step */
         return st == EDMI_ERR_DOMAIN || st == EDMI_ERR_OVERFLOW ? EDMI_ERR_DIVERGED : st;
     st = edmi__set_scales(sys, work, dt); /* the predictor's residual sets the scales, */
     if (st != EDMI_OK)
@@ -5109,7 +5109,12 @@ static edmi_status edmi__attempt(const edmi_system *sys, edmi_workspace *work, e
     st = edmi__newton(sys, work, dt, res);
     if (st == EDMI_ERR_DOMAIN) /* an iterate outside the domain that halving never reached */
         return EDMI_ERR_DIVERGED;
-    return st == EDMI_OK ? edmi__finish(sys, work, dt, 0, res) : st;
+    if (st != EDMI_OK)
+        return st;
+    st = edmi__finish(sys, work, dt, 0, res);
+    /* a user potential refusing the solution's end, met by the energy balance before the
+     * end checks: the solution ends where the next step could not start */
+    return st == EDMI_ERR_DOMAIN ? EDMI_ERR_END_STATE : st;
 }
 
 /* The fallback after a failed attempt (edmi_params.fallback): with the guard on, Newton's last
