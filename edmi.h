@@ -685,6 +685,27 @@ typedef enum edmi_stop {
                                   works unchanged exactly; a body held at rest by the grid a
                                   few units in the last place off an anchor) */
 
+/* The names before 0.2.0 (one prefix per enum since), kept so that a caller written for 0.1
+ * still compiles; define EDMI_NO_OLD_NAMES to drop them. The statuses split in 0.2.0 have no
+ * such alias: EDMI_ERR_RANGE, _DIVERGED and _CAPACITY each lost a meaning (edmi_status). */
+#ifndef EDMI_NO_OLD_NAMES
+#define EDMI_MP EDMI_SCHEME_MP
+#define EDMI_LG EDMI_SCHEME_LG
+#define EDMI_GE EDMI_SCHEME_GE
+#define EDMI_PM EDMI_SCHEME_PM
+#define EDMI_PT EDMI_SCHEME_PT
+#define EDMI_ALT_JANZ EDMI_LG_ALT_JANZ
+#define EDMI_ALT_GONZALEZ EDMI_LG_ALT_GONZALEZ
+#define EDMI_ALT_GE EDMI_LG_ALT_GE
+#define EDMI_ALT_PM EDMI_LG_ALT_PM
+#define EDMI_ALT_PT EDMI_LG_ALT_PT
+#define EDMI_GUARD_IMPULSE EDMI_MOVE_IMPULSE
+#define EDMI_GUARD_DRAG EDMI_MOVE_DRAG
+#define EDMI_GUARD_ROUND EDMI_MOVE_ROUND
+#define EDMI_GUARD_STOP EDMI_MOVE_STOP
+#define EDMI_GUARD_HOLD EDMI_MOVE_HOLD
+#endif
+
 /** How a step's energy change was certified (edmi_step_result.certificate). */
 typedef enum edmi_certificate {
     EDMI_CERT_NONE = 0,   /*!< not evaluated (guard off, no energy_balance, or a failed step),

@@ -207,6 +207,15 @@ static void ti_status_names(void)
         "EDMI_ERR_END_STATE", "EDMI_ERR_DOMAIN"};
     int n = (int)(sizeof want / sizeof want[0]), i, j;
     CHECK(n == (int)EDMI_ERR_DOMAIN + 1);
+    /* the names before 0.2.0 are aliases of the new ones (edmi.h, EDMI_NO_OLD_NAMES) */
+    CHECK(EDMI_MP == EDMI_SCHEME_MP && EDMI_LG == EDMI_SCHEME_LG && EDMI_GE == EDMI_SCHEME_GE &&
+          EDMI_PM == EDMI_SCHEME_PM && EDMI_PT == EDMI_SCHEME_PT);
+    CHECK(EDMI_ALT_JANZ == EDMI_LG_ALT_JANZ && EDMI_ALT_GONZALEZ == EDMI_LG_ALT_GONZALEZ &&
+          EDMI_ALT_GE == EDMI_LG_ALT_GE && EDMI_ALT_PM == EDMI_LG_ALT_PM &&
+          EDMI_ALT_PT == EDMI_LG_ALT_PT);
+    CHECK(EDMI_GUARD_IMPULSE == EDMI_MOVE_IMPULSE && EDMI_GUARD_DRAG == EDMI_MOVE_DRAG &&
+          EDMI_GUARD_ROUND == EDMI_MOVE_ROUND && EDMI_GUARD_STOP == EDMI_MOVE_STOP &&
+          EDMI_GUARD_HOLD == EDMI_MOVE_HOLD);
     for (i = 0; i < n; i++) {
         const char *s = edmi_status_name((edmi_status)i);
         if (!CHECK(s != 0))
